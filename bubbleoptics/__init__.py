@@ -1,0 +1,33 @@
+"""bubbleoptics: exact thin-film optics and colour of soap bubbles.
+
+Units everywhere: wavelength and thickness in nanometres, angles in radians, complex refractive
+index ``n + ik`` with ``k >= 0``.  Polarization is ``"s"``, ``"p"`` or ``"unpolarized"``.
+
+The physics lives once, as numba kernels in :mod:`bubbleoptics.kernels`; the functions below
+broadcast over them like NumPy ufuncs, and the ray tracer (:mod:`tracer`) calls the same kernels.
+"""
+
+from .colorimetry import XYZ_to_display_sRGB, film_color, spectral_weights, spectrum_to_XYZ
+from .dispersion import water_refractive_index
+from .film import film_reflectance, film_rt, film_transmittance, two_beam_reflectance
+from .fresnel import FresnelCoefficients, fresnel_coefficients
+from .multilayer import multilayer_reflectance, multilayer_rt, multilayer_transmittance
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "film_reflectance",
+    "film_transmittance",
+    "film_rt",
+    "two_beam_reflectance",
+    "fresnel_coefficients",
+    "FresnelCoefficients",
+    "multilayer_reflectance",
+    "multilayer_transmittance",
+    "multilayer_rt",
+    "water_refractive_index",
+    "spectrum_to_XYZ",
+    "spectral_weights",
+    "XYZ_to_display_sRGB",
+    "film_color",
+]

@@ -1,0 +1,223 @@
+"""Spectrum to colour: CIE XYZ and display sRGB, with colour-science's data and methods.
+
+Colour matching functions, illuminants, the sRGB encoding and chromatic adaptation all come
+from colour-science; this module only precomputes colour-science's *Integration* method as a
+matrix, so that many spectra convert with one matrix product, and applies it to film spectra.
+"""
+
+import functools
+import warnings
+
+import colour
+import numpy as np
+
+from . import _args
+from .film import film_reflectance, film_transmittance
+
+__all__ = [
+    "DEFAULT_OBSERVER",
+    "DEFAULT_WAVELENGTHS_NM",
+    "spectral_weights",
+    "spectrum_to_XYZ",
+    "XYZ_to_display_sRGB",
+    "film_color",
+]
+
+DEFAULT_OBSERVER = "CIE 1931 2 Degree Standard Observer"
+
+#: colour-science's default spectral shape (360-780 nm at 1 nm): the "1 nm reference".
+DEFAULT_WAVELENGTHS_NM = np.arange(360.0, 781.0, 1.0)
+
+
+def _resolve_illuminant(illuminant):
+    if illuminant is None or isinstance(illuminant, colour.SpectralDistribution):
+        return illuminant
+    try:
+        return colour.SDS_ILLUMINANTS[illuminant]
+    except KeyError:
+        raise ValueError(
+            f"illuminant must be None, a colour.SpectralDistribution or one of colour.SDS_ILLUMINANTS "
+            f"(got {illuminant!r}); for example 'D65', 'A', 'E'"
+        ) from None
+
+
+def _resolve_observer(observer):
+    try:
+        return colour.MSDS_CMFS[observer]
+    except KeyError:
+        raise ValueError(
+            f"observer must be one of colour.MSDS_CMFS, e.g. {DEFAULT_OBSERVER!r} (got {observer!r})"
+        ) from None
+
+
+@functools.lru_cache(maxsize=32)
+def _weights_cached(wavelengths, illuminant, observer):
+    return _weights(np.array(wavelengths), illuminant, observer)
+
+
+def _weights(wl, illuminant, observer):
+    cmfs = _resolve_observer(observer)
+    sd_illuminant = _resolve_illuminant(illuminant)
+    # colour-science's Integration method is linear in the spectrum (interpolation onto the CMF
+    # grid and constant extrapolation included), so its matrix is its response to the basis.
+    basis = colour.MultiSpectralDistributions(np.eye(wl.size), wl, labels=[str(i) for i in range(wl.size)])
+    with warnings.catch_warnings(), colour.utilities.suppress_warnings(colour_runtime_warnings=True):
+        warnings.simplefilter("ignore")
+        xyz = colour.msds_to_XYZ(basis, cmfs, sd_illuminant, method="Integration")
+    w = np.asarray(xyz, dtype=float).reshape(wl.size, 3).T / 100.0
+    w.flags.writeable = False
+    return w
+
+
+def spectral_weights(wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER):
+    """The (3, N) matrix *W* with ``XYZ = W @ values`` for spectra sampled at *wavelengths_nm*.
+
+    Equal to colour-science's ``sd_to_XYZ(..., method="Integration") / 100`` (ASTM E308 /
+    CIE 15:2004 integration: the spectrum is interpolated onto the CMF grid, Sprague for uniform
+    sampling, cubic spline otherwise, extrapolated as a constant, and
+    :math:`X = k\\sum_\\lambda \\bar x(\\lambda) S(\\lambda) R(\\lambda)\\Delta\\lambda` with
+    :math:`k = 1/\\sum\\bar y S\\Delta\\lambda`), so Y = 1 for a perfect reflector.  Cached per
+    wavelength grid, illuminant and observer.
+
+    Parameters
+    ----------
+    wavelengths_nm : 1-D array_like, strictly increasing, in nm.
+    illuminant : name in ``colour.SDS_ILLUMINANTS`` (default ``"D65"``), a
+        ``colour.SpectralDistribution``, or ``None`` for the equal-energy illuminant E (use it for
+        spectra that are already radiances).
+    observer : name in ``colour.MSDS_CMFS``.
+    """
+    wl = _args.real_array("wavelengths_nm", wavelengths_nm, minimum=0.0, strict=True)
+    if wl.ndim != 1 or wl.size < 2:
+        raise ValueError(f"wavelengths_nm must be 1-D with at least 2 samples (got shape {wl.shape})")
+    if np.any(np.diff(wl) <= 0):
+        raise ValueError("wavelengths_nm must be strictly increasing")
+    if isinstance(illuminant, colour.SpectralDistribution):
+        return _weights(wl, illuminant, observer)
+    return _weights_cached(tuple(wl.tolist()), illuminant, observer)
+
+
+def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER):
+    """CIE XYZ of spectra (reflectances or transmittances) under an illuminant, Y = 1 for a perfect reflector.
+
+    .. math::  X_i = \\frac{\\sum_\\lambda \\bar x_i(\\lambda)S(\\lambda)R(\\lambda)\\Delta\\lambda}
+                           {\\sum_\\lambda \\bar y(\\lambda)S(\\lambda)\\Delta\\lambda}
+
+    (CIE 15:2004 §7), computed as one matrix product with :func:`spectral_weights`; equals
+    ``colour.sd_to_XYZ(sd, cmfs, illuminant, method="Integration") / 100`` to 1e-10.
+
+    Parameters
+    ----------
+    values : array_like (..., N), the spectra, wavelength on the last axis.
+    wavelengths_nm : array_like (N,), in nm.
+    illuminant, observer : see :func:`spectral_weights`.
+
+    Returns
+    -------
+    ndarray (..., 3).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bubbleoptics import spectrum_to_XYZ
+    >>> wl = np.arange(380.0, 781.0, 5.0)
+    >>> XYZ = spectrum_to_XYZ(np.ones_like(wl), wl)  # perfect reflector under D65
+    >>> np.round(XYZ, 4)
+    array([0.9505, 1.    , 1.0888])
+    """
+    v = _args.real_array("values", values)
+    wl = np.asarray(wavelengths_nm, dtype=float)
+    if v.ndim == 0 or v.shape[-1] != wl.size:
+        raise ValueError(
+            f"values must have the wavelength on its last axis: shape {v.shape} does not end in "
+            f"{wl.size} (the number of wavelengths_nm)"
+        )
+    return v @ spectral_weights(wl, illuminant, observer).T
+
+
+def _whitepoint_xy(illuminant, observer, wl):
+    if isinstance(illuminant, str):
+        ccs = colour.CCS_ILLUMINANTS.get(observer, {})
+        if illuminant in ccs:
+            return np.asarray(ccs[illuminant], dtype=float)
+    return colour.XYZ_to_xy(spectrum_to_XYZ(np.ones(wl.size), wl, illuminant, observer))
+
+
+def XYZ_to_display_sRGB(XYZ, illuminant="D65", observer=DEFAULT_OBSERVER, gamut="clip"):
+    """Display sRGB (IEC 61966-2-1, encoded, in [0, 1]) of XYZ with Y = 1 for white.
+
+    Uses ``colour.XYZ_to_sRGB`` with the illuminant's white point (CAT02 adaptation to D65
+    when the illuminant is not D65), then the sRGB encoding.
+
+    Out-of-gamut colours (``gamut="clip"``, the default) are clipped per channel in *linear*
+    sRGB to [0, 1] before encoding: a negative channel (the saturated blue-greens of
+    higher-order interference) becomes 0, so the hue shifts slightly toward the gamut boundary
+    while lightness ordering is kept.  ``gamut="none"`` returns the encoded values unclipped
+    (possibly outside [0, 1]; negative linear values encode as negative).
+    """
+    if gamut not in ("clip", "none"):
+        raise ValueError(f"gamut must be 'clip' or 'none' (got {gamut!r})")
+    XYZ = np.asarray(XYZ, dtype=float)
+    wp = _whitepoint_xy(illuminant, observer, DEFAULT_WAVELENGTHS_NM)
+    rgb = colour.XYZ_to_sRGB(XYZ, illuminant=wp, apply_cctf_encoding=False)
+    if gamut == "clip":
+        rgb = np.clip(rgb, 0.0, 1.0)
+    return colour.cctf_encoding(rgb, function="sRGB")
+
+
+def film_color(
+    thickness_nm,
+    theta=0.0,
+    n_film=None,
+    n_outside=1.0,
+    n_inside=None,
+    illuminant="D65",
+    observer=DEFAULT_OBSERVER,
+    polarization="unpolarized",
+    *,
+    wavelengths_nm=None,
+    quantity="reflectance",
+    gamut="clip",
+):
+    """Display sRGB colour of a thin film seen in reflection (or transmission) under an illuminant.
+
+    Computes the exact film spectrum (:func:`film_reflectance`) at *wavelengths_nm* (default
+    360-780 nm every 1 nm, the grid of the CIE 1931 tables in colour-science), converts it to
+    XYZ (:func:`spectrum_to_XYZ`) and to display sRGB (:func:`XYZ_to_display_sRGB`; see there
+    for out-of-gamut handling).  A perfect reflector maps to sRGB white.
+
+    Parameters
+    ----------
+    thickness_nm : array_like, film thickness in nm (>= 0).
+    theta : array_like, angle of incidence in radians (broadcasts with *thickness_nm*).
+    n_film : None (water, :func:`water_refractive_index`), a scalar, or an array (N,) given per
+        wavelength of *wavelengths_nm*.
+    n_outside, n_inside, polarization : as :func:`film_reflectance`.
+    illuminant, observer : see :func:`spectral_weights`.
+    quantity : ``"reflectance"`` (default) or ``"transmittance"``.
+
+    Returns
+    -------
+    ndarray (..., 3), encoded sRGB, the leading shape that of thickness and theta broadcast.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bubbleoptics import film_color
+    >>> film_color([0.0, 10.0]).round(3)  # the thinnest films reflect nothing: black
+    array([[0.   , 0.   , 0.   ],
+           [0.009, 0.009, 0.009]])
+    >>> film_color(np.linspace(0, 2000, 500), theta=np.pi / 3).shape
+    (500, 3)
+    """
+    if quantity not in ("reflectance", "transmittance"):
+        raise ValueError(f"quantity must be 'reflectance' or 'transmittance' (got {quantity!r})")
+    wl = DEFAULT_WAVELENGTHS_NM if wavelengths_nm is None else _args.real_array("wavelengths_nm", wavelengths_nm)
+    d = _args.real_array("thickness_nm", thickness_nm, minimum=0.0)
+    th = _args.angle_array("theta", theta)
+    lead = _args.broadcast_shape(thickness_nm=d, theta=th)
+    func = film_reflectance if quantity == "reflectance" else film_transmittance
+    spectrum = func(wl, d[..., None], th[..., None], n_film, n_outside, n_inside, polarization)
+    spectrum = np.broadcast_to(spectrum, lead + (wl.size,))
+    XYZ = spectrum_to_XYZ(spectrum, wl, illuminant, observer)
+    return XYZ_to_display_sRGB(XYZ, illuminant, observer, gamut)
