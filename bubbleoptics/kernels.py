@@ -76,6 +76,8 @@ __all__ = [
     "normal_wavevector",
     "fresnel_interface",
     "film_setup",
+    "sin2_cos2",
+    "BETA_POLY_MAX",
     "film_evaluate",
     "film_rt",
     "two_beam_r",
@@ -169,6 +171,46 @@ def _sinc(x):
         x2 = x * x
         return 1.0 - x2 / 6.0 + x2 * x2 / 120.0
     return math.sin(x) / x
+
+
+# pi/2 split in three parts (Cody & Waite, "Software Manual for the Elementary Functions",
+# 1980, ch. 8): the first two carry 31 and 32 significant bits, so k*_PIO2_1 and k*_PIO2_2 are
+# exact for k < 2**21, and beta - k*_PIO2_1 is exact (Sterbenz); values computed with mpmath.
+_PIO2_1 = 1.5707963267341256
+_PIO2_2 = 6.077100506303966e-11
+_PIO2_3 = 2.0222662487959506e-21
+_TWO_OVER_PI = 0.6366197723675814
+#: Largest phase for :func:`sin2_cos2` (k < 2**20 quadrants); larger phases use libm.
+BETA_POLY_MAX = 2.0**20 * 1.5707963267948966
+# Taylor coefficients (-1)^n/(2n+1)! and (-1)^n/(2n)!; on |r| <= pi/4 the first omitted terms
+# are below 1e-19 (sin) and 3e-18 (cos) relative, i.e. well under half an ulp.
+_S3, _S5, _S7, _S9 = -1 / 6, 1 / 120, -1 / 5040, 1 / 362880
+_S11, _S13, _S15, _S17 = -1 / 39916800, 1 / 6227020800, -1 / 1307674368000, 1 / 355687428096000
+_C2, _C4, _C6, _C8 = -1 / 2, 1 / 24, -1 / 720, 1 / 40320
+_C10, _C12, _C14, _C16 = -1 / 3628800, 1 / 479001600, -1 / 87178291200, 1 / 20922789888000
+
+
+@njit(cache=True)
+def sin2_cos2(beta):
+    """(sin²β, cos²β) for 0 <= β <= :data:`BETA_POLY_MAX`, without branches.
+
+    Why by hand: numba calls libm's scalar sin and cos (about 20 ns each here) and, since it
+    dropped SVML, cannot vectorize them; this straight-line version lets LLVM vectorize the
+    thickness loop.  Reduction β = kπ/2 + r with the three-part π/2 above (error in r below
+    1 ulp of r plus 1e-27), Taylor polynomials on |r| <= π/4, and the quadrant applied as an
+    exact 0/1 blend (only squares are needed, so signs drop out).  Checked against libm and
+    mpmath in ``tests/test_kernels.py``.
+    """
+    k = math.floor(beta * _TWO_OVER_PI + 0.5)
+    r = ((beta - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
+    r2 = r * r
+    sr = r + r * r2 * (_S3 + r2 * (_S5 + r2 * (_S7 + r2 * (_S9 + r2 * (_S11 + r2 * (_S13 + r2 * (_S15 + r2 * _S17)))))))
+    cr = 1.0 + r2 * (_C2 + r2 * (_C4 + r2 * (_C6 + r2 * (_C8 + r2 * (_C10 + r2 * (_C12 + r2 * (_C14 + r2 * _C16)))))))
+    s2 = sr * sr
+    c2 = cr * cr
+    odd = k - 2.0 * math.floor(0.5 * k)  # 0.0 or 1.0
+    even = 1.0 - odd
+    return odd * c2 + even * s2, odd * s2 + even * c2
 
 
 @njit(cache=True)
@@ -306,47 +348,64 @@ def film_setup(wavelength, cos0, n0, n1, n2):
 
 
 @njit(cache=True)
+def _real_rt(c, cos2, sig2, pol):
+    """Lossless-path (R, T) from cos²β and σ² = sin²β/q1² (module docstring, real form)."""
+    R = 0.0
+    T = 0.0
+    if pol != POL_P:
+        den = c[5].real * cos2 + c[6].real * sig2
+        R += (c[3].real * cos2 + c[4].real * sig2) / den
+        T += c[7].real / den
+    if pol != POL_S:
+        den = c[10].real * cos2 + c[11].real * sig2
+        R += (c[8].real * cos2 + c[9].real * sig2) / den
+        T += c[12].real / den
+    if pol == POL_UNPOLARIZED:
+        R *= 0.5
+        T *= 0.5
+    return R, T
+
+
+@njit(cache=True)
 def film_evaluate(c, d, pol):
     """Stage 2 of the Airy sum: (R, T) of the film of thickness *d* nm for polarization *pol*.
 
     *c* is the tuple (or a row of an array) from :func:`film_setup`; *pol* is 0 (s), 1 (p) or
     2 (unpolarized: the mean of s and p).  Returns (R, T), both in [0, 1].
     """
-    R = 0.0
-    T = 0.0
     if c[13].real == 0.0:
         beta = c[0].real * d
-        cb = math.cos(beta)
+        if beta <= BETA_POLY_MAX:
+            sn2, cs2 = sin2_cos2(beta)
+        else:
+            sb = math.sin(beta)
+            cb = math.cos(beta)
+            sn2 = sb * sb
+            cs2 = cb * cb
         inv_q1 = c[1].real
         if inv_q1 > 0.0:
-            sig = math.sin(beta) * inv_q1
+            sig2 = sn2 * (inv_q1 * inv_q1)
         else:
-            sig = d * c[2].real * _sinc(beta)
-        c2 = cb * cb
-        s2 = sig * sig
-        if pol != POL_P:
-            den = c[5].real * c2 + c[6].real * s2
-            R += (c[3].real * c2 + c[4].real * s2) / den
-            T += c[7].real / den
-        if pol != POL_S:
-            den = c[10].real * c2 + c[11].real * s2
-            R += (c[8].real * c2 + c[9].real * s2) / den
-            T += c[12].real / den
-    else:
-        one_p_e, u, ex = _phase_terms(c[0], c[2].real, d)
-        if pol != POL_P:
-            num = c[3] * one_p_e + c[4] * u
-            den = c[5] * one_p_e + c[6] * u
-            dd = den.real * den.real + den.imag * den.imag
-            R += (num.real * num.real + num.imag * num.imag) / dd
-            T += c[7].real * ex / dd
-        if pol != POL_S:
-            up = u * c[1]
-            num = c[8] * one_p_e + c[9] * up
-            den = c[10] * one_p_e + c[11] * up
-            dd = den.real * den.real + den.imag * den.imag
-            R += (num.real * num.real + num.imag * num.imag) / dd
-            T += c[12].real * ex / dd
+            # q1 -> 0 (film at its critical angle): sigma = d (2 pi/lambda) sinc(beta)
+            sinc2 = sn2 / (beta * beta) if beta > 1e-4 else _sinc(beta) ** 2
+            sig2 = (d * c[2].real) ** 2 * sinc2
+        return _real_rt(c, cs2, sig2, pol)
+    R = 0.0
+    T = 0.0
+    one_p_e, u, ex = _phase_terms(c[0], c[2].real, d)
+    if pol != POL_P:
+        num = c[3] * one_p_e + c[4] * u
+        den = c[5] * one_p_e + c[6] * u
+        dd = den.real * den.real + den.imag * den.imag
+        R += (num.real * num.real + num.imag * num.imag) / dd
+        T += c[7].real * ex / dd
+    if pol != POL_S:
+        up = u * c[1]
+        num = c[8] * one_p_e + c[9] * up
+        den = c[10] * one_p_e + c[11] * up
+        dd = den.real * den.real + den.imag * den.imag
+        R += (num.real * num.real + num.imag * num.imag) / dd
+        T += c[12].real * ex / dd
     if pol == POL_UNPOLARIZED:
         R *= 0.5
         T *= 0.5
@@ -499,24 +558,45 @@ _BLOCK = 512
 def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
     """Evaluate the film for every (outer i, inner j): coefficients ``coef[i]``, thickness
     ``d[i, j]`` (or ``d[0, j]`` when *d* has one row).  Work is split in blocks of the inner
-    axis so both cores stay busy whatever the shape.
+    axis so both cores stay busy whatever the shape.  Lossless rows whose phases stay below
+    :data:`BETA_POLY_MAX` take a branch-free inner loop that LLVM vectorizes; it evaluates the
+    same formula (:func:`_real_rt`) as :func:`film_evaluate`, which handles every other row.
     """
     n_outer = coef.shape[0]
     n_inner = d.shape[1]
     shared_d = d.shape[0] == 1
     n_blocks = (n_inner + _BLOCK - 1) // _BLOCK
+    d_max = np.empty(d.shape[0])
+    for i in range(d.shape[0]):
+        d_max[i] = np.max(d[i]) if n_inner else 0.0
     for b in prange(n_outer * n_blocks):
         i = b // n_blocks
         j0 = (b - i * n_blocks) * _BLOCK
         j1 = min(j0 + _BLOCK, n_inner)
         row = coef[i]
         di = 0 if shared_d else i
-        for j in range(j0, j1):
-            r, t = film_evaluate(row, d[di, j], pol)
-            if want_r:
-                out_r[i, j] = r
-            if want_t:
-                out_t[i, j] = t
+        kq = row[0].real
+        iq2 = row[1].real * row[1].real
+        fast = row[13].real == 0.0 and iq2 > 0.0 and kq * d_max[di] <= BETA_POLY_MAX
+        if fast and want_r and want_t:
+            for j in range(j0, j1):
+                sn2, cs2 = sin2_cos2(kq * d[di, j])
+                out_r[i, j], out_t[i, j] = _real_rt(row, cs2, sn2 * iq2, pol)
+        elif fast and want_r:
+            for j in range(j0, j1):
+                sn2, cs2 = sin2_cos2(kq * d[di, j])
+                out_r[i, j] = _real_rt(row, cs2, sn2 * iq2, pol)[0]
+        elif fast:
+            for j in range(j0, j1):
+                sn2, cs2 = sin2_cos2(kq * d[di, j])
+                out_t[i, j] = _real_rt(row, cs2, sn2 * iq2, pol)[1]
+        else:
+            for j in range(j0, j1):
+                r, t = film_evaluate(row, d[di, j], pol)
+                if want_r:
+                    out_r[i, j] = r
+                if want_t:
+                    out_t[i, j] = t
 
 
 @njit(cache=True, parallel=True)
