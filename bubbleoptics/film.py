@@ -53,8 +53,8 @@ def film_rt(
     coef = film_setup_array(wl_f, cos_f, n0_f, n1_f, n2_f)
     want_r = "R" in quantities
     want_t = "T" in quantities
-    out_r = np.empty((n_outer, n_inner)) if want_r else np.empty((0, 0))
-    out_t = np.empty((n_outer, n_inner)) if want_t else np.empty((0, 0))
+    out_r = np.empty((n_outer, n_inner)) if want_r else np.empty((1, 0))
+    out_t = np.empty((n_outer, n_inner)) if want_t else np.empty((1, 0))
     if n_outer * n_inner:
         film_evaluate_grid(coef, d2, pol, want_r, want_t, out_r, out_t)
     result = []
