@@ -122,8 +122,8 @@ def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_O
     >>> from bubbleoptics import spectrum_to_XYZ
     >>> wl = np.arange(380.0, 781.0, 5.0)
     >>> XYZ = spectrum_to_XYZ(np.ones_like(wl), wl)  # perfect reflector under D65
-    >>> np.round(XYZ, 4)
-    array([0.9505, 1.    , 1.0888])
+    >>> [round(float(v), 4) for v in XYZ]
+    [0.9505, 1.0, 1.0888]
     """
     v = _args.real_array("values", values)
     wl = np.asarray(wavelengths_nm, dtype=float)
@@ -204,9 +204,10 @@ def film_color(
     --------
     >>> import numpy as np
     >>> from bubbleoptics import film_color
-    >>> film_color([0.0, 10.0]).round(3)  # the thinnest films reflect nothing: black
-    array([[0.   , 0.   , 0.   ],
-           [0.009, 0.009, 0.009]])
+    >>> film_color(0.0).tolist()  # no film, no reflection: black
+    [0.0, 0.0, 0.0]
+    >>> [round(v, 3) for v in film_color(10.0).tolist()]  # R ~ 1/lambda^2: a dark blue-grey
+    [0.018, 0.026, 0.04]
     >>> film_color(np.linspace(0, 2000, 500), theta=np.pi / 3).shape
     (500, 3)
     """
