@@ -7,7 +7,14 @@ The physics lives once, as numba kernels in :mod:`bubbleoptics.kernels`; the fun
 broadcast over them like NumPy ufuncs, and the ray tracer (:mod:`tracer`) calls the same kernels.
 """
 
-from .colorimetry import XYZ_to_display_sRGB, film_color, spectral_weights, spectrum_to_XYZ
+from .colorimetry import (
+    XYZ_to_display_sRGB,
+    band_spectral_weights,
+    film_color,
+    rgb_reflectance_basis,
+    spectral_weights,
+    spectrum_to_XYZ,
+)
 from .dispersion import water_refractive_index
 from .film import film_reflectance, film_rt, film_transmittance, two_beam_reflectance
 from .fresnel import FresnelCoefficients, fresnel_coefficients
@@ -28,6 +35,8 @@ __all__ = [
     "water_refractive_index",
     "spectrum_to_XYZ",
     "spectral_weights",
+    "band_spectral_weights",
+    "rgb_reflectance_basis",
     "XYZ_to_display_sRGB",
     "film_color",
 ]

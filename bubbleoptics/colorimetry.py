@@ -18,6 +18,9 @@ __all__ = [
     "DEFAULT_OBSERVER",
     "DEFAULT_WAVELENGTHS_NM",
     "spectral_weights",
+    "band_spectral_weights",
+    "rgb_reflectance_basis",
+    "XYZ_TO_LINEAR_SRGB",
     "spectrum_to_XYZ",
     "XYZ_to_display_sRGB",
     "film_color",
@@ -95,6 +98,65 @@ def spectral_weights(wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER
     if isinstance(illuminant, colour.SpectralDistribution):
         return _weights(wl, illuminant, observer)
     return _weights_cached(tuple(wl.tolist()), illuminant, observer)
+
+
+def band_spectral_weights(n_bands, illuminant="D65", observer=DEFAULT_OBSERVER, lo_nm=360.0, hi_nm=780.0):
+    """Centres (N,) and XYZ weights (3, N) of *n_bands* equal wavelength bands over [lo, hi] nm.
+
+    A spectrum known by one value per band is taken as constant over its band, so its XYZ is
+    the 1 nm integration of :func:`spectral_weights` (colour-science's Integration method over
+    ``DEFAULT_WAVELENGTHS_NM``) summed over each band: ``W_band = W_1nm @ B`` with B the
+    band-membership matrix (each 1 nm sample belongs to the band containing it; a sample on a
+    boundary is split equally).  With 421 bands over 360-780 nm this *is* the 1 nm reference.
+    Used by the tracer's spectral transport.
+
+    >>> from bubbleoptics import band_spectral_weights
+    >>> wl, W = band_spectral_weights(16)
+    >>> wl.shape, W.shape, round(float(W[1].sum()), 12)  # a perfect reflector still has Y = 1
+    ((16,), (3, 16), 1.0)
+    """
+    if int(n_bands) != n_bands or n_bands < 1:
+        raise ValueError(f"n_bands must be a positive integer (got {n_bands!r})")
+    n_bands = int(n_bands)
+    fine = DEFAULT_WAVELENGTHS_NM[(DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)]
+    w_fine = spectral_weights(DEFAULT_WAVELENGTHS_NM, illuminant, observer)
+    w_fine = w_fine[:, (DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)]
+    edges = np.linspace(lo_nm, hi_nm, n_bands + 1)
+    if n_bands == fine.size:  # one band per 1 nm sample: identity
+        return fine.copy(), w_fine.copy()
+    membership = np.zeros((fine.size, n_bands))
+    for i, lam in enumerate(fine):
+        inside = np.flatnonzero((lam >= edges[:-1]) & (lam <= edges[1:]))
+        membership[i, inside] = 1.0 / inside.size
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    return centres, w_fine @ membership
+
+
+def rgb_reflectance_basis(n_bands, lo_nm=360.0, hi_nm=780.0):
+    """(N, 3) band-averaged spectra of linear sRGB red, green and blue (Mallett & Yuksel 2019).
+
+    A linear-sRGB reflectance ``rgb`` becomes the band spectrum ``basis @ rgb``; the basis
+    (colour-science's ``MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019``, 380-780 nm) sums to one at
+    every wavelength, so white stays flat, and every in-gamut colour maps to a spectrum within
+    [0, 1] that reproduces it under D65 (L. Mallett and C. Yuksel, "Spectral Primary
+    Decomposition for Rendering with sRGB Reflectance", EGSR 2019).  Extrapolated as constant
+    outside 380-780 nm, as colour-science does.
+    """
+    basis = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
+    fine = DEFAULT_WAVELENGTHS_NM[(DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        b = basis.copy().align(colour.SpectralShape(fine[0], fine[-1], 1.0)).values
+    edges = np.linspace(lo_nm, hi_nm, n_bands + 1)
+    out = np.empty((n_bands, 3))
+    for k in range(n_bands):
+        inside = (fine >= edges[k]) & (fine <= edges[k + 1])
+        out[k] = b[inside].mean(axis=0)
+    return out
+
+
+#: Linear sRGB from CIE XYZ (IEC 61966-2-1, D65 white; colour-science's matrix).
+XYZ_TO_LINEAR_SRGB = np.array(colour.RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB, dtype=float)
 
 
 def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER):

@@ -49,7 +49,7 @@ def water_refractive_index(wavelength_nm):
     wl = _args.real_array("wavelength_nm", wavelength_nm)
     bad = (wl < lo) | (wl > hi)
     if bad.any():
-        value = wl[np.argwhere(bad)[0][0]] if wl.ndim else wl
+        value = wl[tuple(np.argwhere(bad)[0])] if wl.ndim else wl
         raise ValueError(
             f"wavelength_nm must lie within {lo:g}-{hi:g} nm for the Daimon & Masumura (2007) water "
             f"index (got {float(value)!r}); pass n_film explicitly outside that range"

@@ -41,6 +41,8 @@ def film_rt(
     See :func:`film_reflectance` for the parameters.  *quantities* is ``"RT"`` (default),
     ``"R"`` or ``"T"``; returns a tuple of the requested arrays.
     """
+    if quantities not in ("RT", "R", "T"):
+        raise ValueError(f"quantities must be 'RT', 'R' or 'T' (got {quantities!r})")
     pol = _args.polarization_code(polarization)
     wl, d, th, n1, n0, n2 = _film_inputs(wavelength_nm, thickness_nm, theta, n_film, n_outside, n_inside)
     shape = _args.broadcast_shape(

@@ -281,6 +281,11 @@ def fresnel_interface(n1, n2, cos1):
     Q2 = q2 / (n2 * n2)
     rp = _eta_difference(n1c, n2, q1c, q2, s2, POL_P) / (Q1 + Q2)
     tp = 2.0 * n1 * n2 * q1 / (n2 * n2 * q1 + n1 * n1 * q2)
+    if n2.imag == 0.0 and q2.imag > 0.0:
+        # total internal reflection: |r| = 1 exactly (rounding would give 1 + O(eps))
+        rs = rs / abs(rs)
+        rp = rp / abs(rp)
+        return rs, rp, ts, tp, 1.0, 1.0, 0.0, 0.0
     Rs = rs.real * rs.real + rs.imag * rs.imag
     Rp = rp.real * rp.real + rp.imag * rp.imag
     Ts = q2.real / q1 * (ts.real * ts.real + ts.imag * ts.imag)
@@ -304,7 +309,7 @@ def film_setup(wavelength, cos0, n0, n1, n2):
 
     Returns a tuple of :data:`N_FILM_COEFFICIENTS` complex numbers for :func:`film_evaluate`.
     Entry 13 is 0 for the real-arithmetic path (lossless media, every wave propagating), 1 for
-    the complex path.  See the module docstring for the formulas.
+    the complex path, 2 for total reflection (lossless media, evanescent inside medium).  See the module docstring for the formulas.
     """
     c0 = max(cos0, COS_MIN)
     q0 = n0 * c0
@@ -312,7 +317,14 @@ def film_setup(wavelength, cos0, n0, n1, n2):
     g = _TWO_PI / wavelength
     q1 = normal_wavevector(n1, n0, q0)
     q2 = normal_wavevector(n2, n0, q0)
-    lossless = n1.imag == 0.0 and n2.imag == 0.0 and q1.imag == 0.0 and q2.imag == 0.0
+    no_loss = n1.imag == 0.0 and n2.imag == 0.0
+    if no_loss and q2.imag > 0.0:
+        # Total reflection: lossless media and an evanescent inside medium carry no energy
+        # away, so R = 1 and T = 0 exactly.  (Evaluating the Airy form here loses |r| = 1 near
+        # the film's guided-mode resonances at grazing incidence, where its numerator and
+        # denominator both vanish like q0.)
+        return (0j, 0j, complex(g, 0.0), 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 2.0 + 0j)
+    lossless = no_loss and q1.imag == 0.0
     s0, s2e, a_s, b_s, c_s, d_s = _film_terms(n0, n1, n2, q0, q1, q2, s2, POL_S)
     p0, p2e, a_p, b_p, c_p, d_p = _film_terms(n0, n1, n2, q0, q1, q2, s2, POL_P)
     if lossless:
@@ -388,7 +400,10 @@ def film_evaluate(c, d, pol):
     *c* is the tuple (or a row of an array) from :func:`film_setup`; *pol* is 0 (s), 1 (p) or
     2 (unpolarized: the mean of s and p).  Returns (R, T), both in [0, 1].
     """
-    if c[13].real == 0.0:
+    flag = c[13].real
+    if flag == 2.0:
+        return 1.0, 0.0
+    if flag == 0.0:
         beta = c[0].real * d
         if beta <= BETA_POLY_MAX:
             sn2, cs2 = sin2_cos2(beta)
@@ -489,6 +504,13 @@ def multilayer_rt(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
     q0 = n0 * c0
     g = _TWO_PI / wavelength
     qm = normal_wavevector(n_inside, n0, q0)
+    if n_inside.imag == 0.0 and qm.imag > 0.0:
+        lossless = True
+        for j in range(n_layers.shape[0]):
+            if n_layers[j].imag != 0.0:
+                lossless = False
+        if lossless:
+            return 1.0, 0.0  # total reflection, as in film_setup
     R = 0.0
     T = 0.0
     for p in range(2):

@@ -1,0 +1,39 @@
+"""Shared pytest configuration for the bubbleoptics test-suite.
+
+Hypothesis profiles
+-------------------
+``ci`` (the default) keeps the property tests deterministic and affordable on a slow
+machine: a fixed number of examples, ``derandomize=True`` (the examples are a function of
+the test alone, so every CI run sees the same inputs and a failure always reproduces), no
+per-example deadline (the first call of a numba kernel may load its cache) and no example
+database on disk.
+
+``thorough`` is for occasional local runs hunting for counterexamples: ten times as many
+examples, randomised, with the database so that a failure found once is replayed first.
+
+Choose with ``HYPOTHESIS_PROFILE=thorough pytest tests/test_properties.py`` (or pytest's own
+``--hypothesis-profile thorough`` option).
+"""
+
+import os
+
+from hypothesis import HealthCheck, settings
+
+settings.register_profile(
+    "ci",
+    max_examples=200,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "thorough",
+    max_examples=2000,
+    deadline=None,
+    derandomize=False,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
