@@ -1,0 +1,155 @@
+"""Command line: ``tracer image``, ``tracer research`` (the seed's -image and -research modes).
+
+Bad input (a malformed scene, an unwritable output, a bad option) prints one line on stderr,
+``FILE:LINE: what is wrong`` for scene errors, and exits with status 2; no traceback, and no
+output file is written (images are written atomically).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+__all__ = ["main"]
+
+EXIT_BAD_INPUT = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, status 2 (argparse's own convention too)
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
+
+
+def _rgb(text):
+    parts = text.split(",")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected R,G,B numbers, got {text!r}") from None
+    if len(values) != 3 or not all(v >= 0 and v < float("inf") for v in values):
+        raise argparse.ArgumentTypeError(f"expected three finite non-negative numbers R,G,B, got {text!r}")
+    return tuple(values)
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return value
+
+
+def _threshold(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
+    if not (value >= 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
+    return value
+
+
+def _add_render_options(p, defaults):
+    p.add_argument("--width", type=_positive_int, default=defaults["width"], help="image width in pixels")
+    p.add_argument("--height", type=_positive_int, default=defaults["height"], help="image height in pixels")
+    p.add_argument("--spp", type=_positive_int, default=defaults["spp"], help="samples per pixel (stratified)")
+    p.add_argument("--threshold", type=_threshold, default=defaults["threshold"],
+                   help="prune child rays whose throughput is at most this (0: the seed's exhaustive tree)")
+    p.add_argument("--spectral-samples", type=_positive_int, default=defaults["spectral_samples"],
+                   help="wavelength bands for spectral transport (scenes with bubbles)")
+    p.add_argument("--seed", type=int, default=defaults["seed"], help="random seed for sample positions")
+    p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
+                   help="replace the environment by this constant linear-RGB colour")
+    p.add_argument("--bits", type=int, choices=(8, 16), default=8, help="PNG bit depth")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def build_parser():
+    from .render import DEFAULTS
+
+    parser = _Parser(prog="tracer", description="A spectral Whitted ray tracer for soap-bubble scenes.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    img = sub.add_parser("image", help="render a scene to an image (.png, or .npy linear float)",
+                         description="Render SCENE (or the built-in bubble scene) to OUT.")
+    img.add_argument("paths", nargs="+", metavar="[SCENE] OUT", help="scene file (optional) and output image")
+    img.add_argument("--depth", type=_positive_int, default=DEFAULTS["depth"], help="maximum ray generation")
+    _add_render_options(img, DEFAULTS)
+    res = sub.add_parser("research", help="render at a trace depth and report the time and ray counts",
+                         description="Render SCENE to OUT at trace depth DEPTH; print the render time "
+                                     "(compilation excluded) and the rays traced by kind.")
+    res.add_argument("scene", metavar="SCENE")
+    res.add_argument("out", metavar="OUT")
+    res.add_argument("depth", type=_positive_int, metavar="DEPTH")
+    res.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_render_options(res, DEFAULTS)
+    return parser
+
+
+def _fail(message):
+    print(message, file=sys.stderr)
+    return EXIT_BAD_INPUT
+
+
+def _check_output(out):
+    out = Path(out)
+    if out.suffix.lower() not in (".png", ".npy"):
+        raise ValueError(f"{out}: output must end in .png or .npy")
+    if not out.parent.exists() or not out.parent.is_dir():
+        raise ValueError(f"{out}: folder {out.parent} does not exist")
+    return out
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    from .errors import SceneError
+    from .render import render_with_stats, save_image
+
+    try:
+        if args.command == "image":
+            if len(args.paths) > 2:
+                return _fail("tracer image: error: expected [SCENE] OUT")
+            scene_path, out = (None, args.paths[0]) if len(args.paths) == 1 else args.paths
+            depth = args.depth
+        else:
+            scene_path, out, depth = args.scene, args.out, args.depth
+        out = _check_output(out)
+        if scene_path is None:
+            from .builtin import default_scene
+
+            scene = default_scene()
+        else:
+            from .io import load_scene
+
+            scene = load_scene(scene_path)
+        if args.background is not None:
+            from .scene import Environment
+
+            scene.environment = Environment(kind="constant", color=args.background)
+        image, stats = render_with_stats(
+            scene, width=args.width, height=args.height, depth=depth, spp=args.spp, threshold=args.threshold,
+            spectral_samples=args.spectral_samples, seed=args.seed, progress=False if args.quiet else None,
+        )
+        save_image(image, out, bits=args.bits)
+    except SceneError as err:
+        return _fail(str(err))
+    except (ValueError, OSError) as err:
+        return _fail(f"tracer: error: {err}")
+    if args.command == "research":
+        report = dict(scene=str(scene_path), depth=depth, width=args.width, height=args.height, spp=args.spp,
+                      threshold=args.threshold, spectral=stats.spectral, channels=stats.channels,
+                      render_seconds=stats.render_seconds, rays=stats.rays)
+        if args.json:
+            print(json.dumps(report))
+        else:
+            print(f"{scene_path}: depth {depth}, {args.width}x{args.height}, {args.spp} spp: "
+                  f"{stats.render_seconds:.3f} s (compilation excluded)")
+            print("rays: " + ", ".join(f"{k} {v:,}" for k, v in stats.rays.items()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

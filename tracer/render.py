@@ -1,0 +1,173 @@
+"""The Python driver: render a scene to a linear-RGB array, save images atomically."""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .integrator import N_COUNTS, render_rows
+from .pack import Packed, pack_scene
+from .scene import Scene
+
+__all__ = ["render", "render_with_stats", "RenderStats", "save_image", "DEFAULTS"]
+
+#: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
+#: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
+#: mid-tones, so pruned branches cannot change a displayed pixel by more than about one step
+#: per pruned branch); 0 traces the seed's exhaustive tree.  ``spectral_samples``: 16 bands.
+#: Both are revisited by the run-time-against-error study (notebooks/04).
+DEFAULTS = dict(width=960, height=960, depth=10, spp=1, threshold=1e-3, spectral_samples=16, seed=0)
+
+
+@dataclass
+class RenderStats:
+    """What a render did: seconds (compilation excluded), rays by kind, mode."""
+
+    render_seconds: float = 0.0
+    rays: dict = field(default_factory=dict)
+    spectral: bool = False
+    channels: int = 3
+
+
+def _check_int(name, value, minimum):
+    if isinstance(value, bool) or int(value) != value or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum} (got {value!r})")
+    return int(value)
+
+
+def _call_rows(packed: Packed, row0, row1, width, height, spp, seed, depth, threshold, out, counts):
+    render_rows(
+        row0, row1, width, height, spp, seed, depth, threshold, packed.camera, packed.to_rgb,
+        packed.spheres, packed.bubbles, packed.bubble_n, packed.bubble_film, packed.film_maps, packed.tris,
+        packed.tri_info, packed.bvh_bounds, packed.bvh_child, packed.bvh_first, packed.bvh_count,
+        packed.mat_color, packed.mat_coef, packed.wavelengths if packed.spectral else np.zeros(3),
+        packed.eps, packed.env_kind, packed.env_params, packed.env_image, packed.rgb_basis,
+        packed.lights, packed.light_rad, packed.ambient, out, counts,
+    )
+
+
+def warm_up(packed: Packed):
+    """Compile (or load from cache) the kernels for this scene's array types on a 1x1 image."""
+    out = np.zeros((1, 1, 3))
+    counts = np.zeros((1, N_COUNTS), dtype=np.int64)
+    _call_rows(packed, 0, 1, 1, 1, 1, 0, 1, 0.0, out, counts)
+
+
+def render_with_stats(
+    scene: Scene,
+    *,
+    width=DEFAULTS["width"],
+    height=DEFAULTS["height"],
+    depth=DEFAULTS["depth"],
+    spp=DEFAULTS["spp"],
+    threshold=DEFAULTS["threshold"],
+    spectral_samples=DEFAULTS["spectral_samples"],
+    seed=DEFAULTS["seed"],
+    spectral=None,
+    progress=None,
+):
+    """Render and return ``(image, RenderStats)``; see :func:`render`."""
+    width = _check_int("width", width, 1)
+    height = _check_int("height", height, 1)
+    depth = _check_int("depth", depth, 1)
+    spp = _check_int("spp", spp, 1)
+    spectral_samples = _check_int("spectral_samples", spectral_samples, 1)
+    seed = _check_int("seed", seed, 0)
+    if not (threshold >= 0 and np.isfinite(threshold)):
+        raise ValueError(f"threshold must be a finite number >= 0 (got {threshold!r})")
+    packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral)
+    warm_up(packed)
+    image = np.zeros((height, width, 3))
+    counts = np.zeros((height, N_COUNTS), dtype=np.int64)
+    chunk = max(1, min(height, 16))
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = None
+    if show:
+        from tqdm import tqdm
+
+        bar = tqdm(total=height, unit="row", desc="render", leave=False, file=sys.stderr)
+    t0 = time.perf_counter()
+    for row0 in range(0, height, chunk):
+        row1 = min(height, row0 + chunk)
+        _call_rows(packed, row0, row1, width, height, spp, seed, depth, float(threshold), image[row0:row1],
+                   counts[row0:row1])
+        if bar is not None:
+            bar.update(row1 - row0)
+    seconds = time.perf_counter() - t0
+    if bar is not None:
+        bar.close()
+    total = counts.sum(axis=0)
+    rays = dict(camera=int(total[0]), reflected=int(total[1]), transmitted=int(total[2]), shadow=int(total[3]))
+    rays["total"] = sum(rays.values())
+    return image, RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0])
+
+
+def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=DEFAULTS["spp"],
+           threshold=DEFAULTS["threshold"], spectral_samples=DEFAULTS["spectral_samples"],
+           seed=DEFAULTS["seed"], spectral=None, progress=None):
+    """Render *scene* to an (height, width, 3) float array of linear sRGB radiance.
+
+    Parameters
+    ----------
+    depth : maximum ray generation (1 = camera rays only), as the seed's "trace depth".
+    spp : samples per pixel (stratified jitter; the pixel centre when 1).
+    threshold : pruning threshold on a child ray's throughput (0 = exhaustive tree).
+    spectral_samples : wavelength bands for spectral transport (used when the scene has bubbles,
+        or when ``spectral=True``); ``spectral=False`` forces RGB transport.
+    seed : random seed; the image depends on it but not on the thread count.
+    progress : show a progress bar (default: when stderr is a terminal).
+    """
+    return render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
+                             spectral_samples=spectral_samples, seed=seed, spectral=spectral,
+                             progress=progress)[0]
+
+
+def _atomic_write(path: Path, write):
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    os.close(fd)
+    try:
+        write(tmp)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+def save_image(image, path, *, bits=8):
+    """Save a linear-RGB image: ``.png`` as sRGB-encoded 8- or 16-bit, ``.npy`` as float linear RGB.
+
+    PNG values are clipped to [0, 1] in linear light and encoded with the sRGB curve
+    (colour-science); no other tone mapping.  The file is written atomically (a temporary file
+    in the same folder, then renamed), so a failed write leaves nothing behind.
+    """
+    path = Path(path)
+    image = np.asarray(image, dtype=float)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise ValueError(f"image must have shape (H, W, 3) (got {image.shape})")
+    suffix = path.suffix.lower()
+    if suffix == ".npy":
+        _atomic_write(path, lambda tmp: np.save(open(tmp, "wb"), image))
+        return path
+    if suffix != ".png":
+        raise ValueError(f"unsupported image type {path.suffix!r}: use .png or .npy")
+    if bits not in (8, 16):
+        raise ValueError(f"bits must be 8 or 16 (got {bits!r})")
+    import colour
+    import imageio.v3 as iio
+
+    encoded = colour.cctf_encoding(np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0), function="sRGB")
+    if bits == 8:
+        data = np.round(encoded * 255).astype(np.uint8)
+    else:
+        data = np.round(encoded * 65535).astype(np.uint16)
+    _atomic_write(path, lambda tmp: iio.imwrite(tmp, data, extension=".png"))
+    return path
