@@ -698,3 +698,13 @@ def test_seed_text_can_be_parsed_from_a_string():
     assert_same(parse_seed_text(text, LISTING_3_2), load_seed_scene(LISTING_3_2))
     with pytest.raises(SceneError, match=r"^<string>:3: sphere 'a': radius must be positive"):
         parse_seed_text("s a\n0 0 0\n0\n")
+
+
+@pytest.mark.parametrize("suffix,module,package", [(".hdr", "cv2", "opencv-python-headless"),
+                                                    (".exr", "OpenEXR", "OpenEXR")])
+def test_missing_optional_image_reader_says_what_to_install(tmp_path, monkeypatch, suffix, module, package):
+    monkeypatch.setitem(__import__("sys").modules, module, None)  # makes `import module` fail
+    (tmp_path / f"env{suffix}").write_bytes(b"not really an image")
+    text = MINIMAL + f"[environment]\nkind = \"image\"\npath = \"env{suffix}\"\n"
+    with pytest.raises(SceneError, match=rf":6: environment\.path: reading \{suffix} needs .*pip install {package}"):
+        load_toml_scene(write(tmp_path, text, "e.toml"))

@@ -129,6 +129,7 @@ class Camera:
     look_at: tuple[float, float, float] = (0.0, 0.0, 0.0)
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     fov_deg: float = 40.0
+    mirror: bool = False  # flip the image left-right (a left-handed screen, as the seed's)
 
     def basis(self):
         """(origin, forward, right, up) unit vectors; raises ValueError when degenerate."""
@@ -144,20 +145,26 @@ class Camera:
             raise ValueError("camera up vector is parallel to the viewing direction")
         right /= rn
         up = np.cross(right, fwd)
+        if self.mirror:
+            right = -right
         return pos, fwd, right, up
 
     @staticmethod
     def seed_default():
         """Frames the seed's screen-like coordinates: the plane z = 0, x and y in 0-960.
 
-        The seed's Qt program drew y downwards, so the camera's up is -y; it sits at z = 2000
-        looking at (480, 480, 0) with the field of view that spans exactly 0-960 at z = 0.
+        The seed's Qt program drew y downwards and x to the right, with the viewer (and its
+        lights, e.g. at z = +1000) on the +z side: a left-handed screen frame, which no rotation
+        of a camera reproduces.  So the camera sits at z = 2000 looking at (480, 480, 0) with up
+        = -y and ``mirror=True`` (pixel column follows +x), with the field of view that spans
+        exactly 0-960 at z = 0.
         """
         return Camera(
             position=(480.0, 480.0, 2000.0),
             look_at=(480.0, 480.0, 0.0),
             up=(0.0, -1.0, 0.0),
             fov_deg=math.degrees(2 * math.atan(480.0 / 2000.0)),
+            mirror=True,
         )
 
 

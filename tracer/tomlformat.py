@@ -3,7 +3,7 @@
 A scene file has these tables, all optional except that at least one object must exist::
 
     [scene]          unit (metadata), description, ambient
-    [camera]         position, look_at, up, fov_deg
+    [camera]         position, look_at, up, fov_deg, mirror
     [environment]    kind = "sky" | "constant" | "image", and the keys of that kind
     [render]         default render settings (width, height, depth, spp, spectral_samples,
                      threshold, seed)
@@ -411,13 +411,17 @@ def parse_toml_text(text: str, path="<string>") -> Scene:
 def _camera(c: _Ctx, t) -> Camera:
     kp = ("camera",)
     c.table(kp, t)
-    c.keys(kp, t, {"position", "look_at", "up", "fov_deg"})
+    c.keys(kp, t, {"position", "look_at", "up", "fov_deg", "mirror"})
     d = Camera()
+    mirror = t.get("mirror", False)
+    if not isinstance(mirror, bool):
+        raise c.bad(kp + ("mirror",), f"must be true or false, got {mirror!r}")
     cam = Camera(
         position=c.vec3(kp + ("position",), t["position"]) if "position" in t else d.position,
         look_at=c.vec3(kp + ("look_at",), t["look_at"]) if "look_at" in t else d.look_at,
         up=c.vec3(kp + ("up",), t["up"], nonzero=True) if "up" in t else d.up,
         fov_deg=c.number(kp + ("fov_deg",), t.get("fov_deg", d.fov_deg), 0.0, lo_open=True),
+        mirror=mirror,
     )
     if not cam.fov_deg < 180.0:
         raise c.bad(kp + ("fov_deg",), f"must be below 180 degrees, got {cam.fov_deg:g}")
@@ -773,7 +777,8 @@ def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header:
     _table(lines, "[scene]", {"unit": unit, "ambient": list(scene.ambient)})
     cam = scene.camera
     _table(lines, "[camera]", {"position": list(cam.position), "look_at": list(cam.look_at),
-                               "up": list(cam.up), "fov_deg": cam.fov_deg})
+                               "up": list(cam.up), "fov_deg": cam.fov_deg,
+                               **({"mirror": True} if cam.mirror else {})})
     env = scene.environment
     e = {"kind": env.kind}
     if env.kind == "constant":
