@@ -110,6 +110,12 @@ _Q_SMALL = 1e-60  # below this, sin(beta)/q1 is evaluated as a sinc (q1 -> 0 at 
 # Building blocks
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT)
+def _q_squared(n, n0, q0):
+    """:math:`q^2 = (n-n_0)(n+n_0) + q_0^2`; real for real *n*, complex for complex *n*."""
+    return (n - n0) * (n + n0) + q0 * q0
+
+
+@njit(**_JIT)
 def normal_wavevector(n, n0, q0):
     """Normal wavevector component :math:`q = n\\cos\\theta` in a medium of index *n*.
 
@@ -119,7 +125,7 @@ def normal_wavevector(n, n0, q0):
     Parameters: *n* complex index of the medium, *n0* real index of the incidence medium,
     *q0* = :math:`n_0\\cos\\theta_0` (real, >= 0).  Returns complex *q*.
     """
-    z = (n - n0) * (n + n0) + q0 * q0
+    z = _q_squared(n + 0j, n0, q0)
     # Im(n^2) = 2 n k >= 0; clamp rounding (and -0.0) so the principal root is the decaying one.
     return cmath.sqrt(complex(z.real, max(z.imag, 0.0)))
 
@@ -153,20 +159,20 @@ def _film_terms(n0, n1, n2, q0, q1, q2, s2, pol):
 
     Returns (eta0, eta2, a, b, c, D) with a = eta0 - eta2, b = eta0 eta2 - eta1^2,
     c = eta0 + eta2, D = eta0 eta2 + eta1^2 (eta1 itself is q1 or q1/n1^2).
+    Type-generic: numba compiles it for real arguments (the lossless path, real arithmetic
+    only) and for complex ones (pass *n0*, *q0* as complex there); one formula, two builds.
     """
     if pol == POL_S:
-        e0 = q0 + 0j
+        e0 = q0
         e1 = q1
         e2 = q2
     else:
-        e0 = q0 / (n0 * n0) + 0j
+        e0 = q0 / (n0 * n0)
         e1 = q1 / (n1 * n1)
         e2 = q2 / (n2 * n2)
-    n0c = n0 + 0j
-    q0c = q0 + 0j
-    a = _eta_difference(n0c, n2, q0c, q2, s2, pol)
+    a = _eta_difference(n0, n2, q0, q2, s2, pol)
     # eta0 eta2 - eta1^2 = eta0 (eta2 - eta0) + (eta0 - eta1)(eta0 + eta1)
-    b = e0 * _eta_difference(n2, n0c, q2, q0c, s2, pol) + _eta_difference(n0c, n1, q0c, q1, s2, pol) * (e0 + e1)
+    b = e0 * _eta_difference(n2, n0, q2, q0, s2, pol) + _eta_difference(n0, n1, q0, q1, s2, pol) * (e0 + e1)
     return e0, e2, a, b, e0 + e2, e0 * e2 + e1 * e1
 
 
@@ -315,38 +321,47 @@ def film_setup(wavelength, cos0, n0, n1, n2):
     q0 = n0 * c0
     s2 = n0 * n0 * (1.0 - c0) * (1.0 + c0)
     g = _TWO_PI / wavelength
+    if n1.imag == 0.0 and n2.imag == 0.0:
+        n1r = n1.real
+        n2r = n2.real
+        z2 = _q_squared(n2r, n0, q0)
+        if z2 < 0.0:
+            # Total reflection: lossless media and an evanescent inside medium carry no energy
+            # away, so R = 1 and T = 0 exactly.  (Evaluating the Airy form here loses |r| = 1
+            # near the film's guided-mode resonances at grazing incidence, where its numerator
+            # and denominator both vanish like q0.)
+            return (0j, 0j, complex(g, 0.0), 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 2.0 + 0j)
+        z1 = _q_squared(n1r, n0, q0)
+        if z1 >= 0.0:
+            # lossless, every wave propagating: real arithmetic only
+            q1 = math.sqrt(z1)
+            q2 = math.sqrt(z2)
+            s0, s2e, a_s, b_s, c_s, d_s = _film_terms(n0, n1r, n2r, q0, q1, q2, s2, POL_S)
+            p0, p2e, a_p, b_p, c_p, d_p = _film_terms(n0, n1r, n2r, q0, q1, q2, s2, POL_P)
+            inv_q1 = 1.0 / q1 if q1 > _Q_SMALL else 0.0
+            n1sq = n1r * n1r
+            return (
+                complex(g * q1, 0.0),
+                complex(inv_q1, 0.0),
+                complex(g, 0.0),
+                complex(a_s * a_s, 0.0),
+                complex(b_s * b_s, 0.0),
+                complex(c_s * c_s, 0.0),
+                complex(d_s * d_s, 0.0),
+                complex(4.0 * s0 * s2e, 0.0),
+                complex(a_p * a_p, 0.0),
+                complex((b_p * n1sq) ** 2, 0.0),
+                complex(c_p * c_p, 0.0),
+                complex((d_p * n1sq) ** 2, 0.0),
+                complex(4.0 * p0 * p2e, 0.0),
+                0j,
+            )
     q1 = normal_wavevector(n1, n0, q0)
     q2 = normal_wavevector(n2, n0, q0)
-    no_loss = n1.imag == 0.0 and n2.imag == 0.0
-    if no_loss and q2.imag > 0.0:
-        # Total reflection: lossless media and an evanescent inside medium carry no energy
-        # away, so R = 1 and T = 0 exactly.  (Evaluating the Airy form here loses |r| = 1 near
-        # the film's guided-mode resonances at grazing incidence, where its numerator and
-        # denominator both vanish like q0.)
-        return (0j, 0j, complex(g, 0.0), 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 2.0 + 0j)
-    lossless = no_loss and q1.imag == 0.0
-    s0, s2e, a_s, b_s, c_s, d_s = _film_terms(n0, n1, n2, q0, q1, q2, s2, POL_S)
-    p0, p2e, a_p, b_p, c_p, d_p = _film_terms(n0, n1, n2, q0, q1, q2, s2, POL_P)
-    if lossless:
-        q1r = q1.real
-        inv_q1 = 1.0 / q1r if q1r > _Q_SMALL else 0.0
-        n1sq = n1.real * n1.real
-        return (
-            complex(g * q1r, 0.0),
-            complex(inv_q1, 0.0),
-            complex(g, 0.0),
-            complex(a_s.real * a_s.real, 0.0),
-            complex(b_s.real * b_s.real, 0.0),
-            complex(c_s.real * c_s.real, 0.0),
-            complex(d_s.real * d_s.real, 0.0),
-            complex(4.0 * s0.real * s2e.real, 0.0),
-            complex(a_p.real * a_p.real, 0.0),
-            complex((b_p.real * n1sq) ** 2, 0.0),
-            complex(c_p.real * c_p.real, 0.0),
-            complex((d_p.real * n1sq) ** 2, 0.0),
-            complex(4.0 * p0.real * p2e.real, 0.0),
-            0j,
-        )
+    n0c = n0 + 0j
+    q0c = q0 + 0j
+    s0, s2e, a_s, b_s, c_s, d_s = _film_terms(n0c, n1, n2, q0c, q1, q2, s2, POL_S)
+    p0, p2e, a_p, b_p, c_p, d_p = _film_terms(n0c, n1, n2, q0c, q1, q2, s2, POL_P)
     return (
         g * q1,
         n1 * n1,

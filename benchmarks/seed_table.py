@@ -1,0 +1,120 @@
+"""The seed's table 4.1 re-run: render time against trace depth for one, two and three bubbles.
+
+Run:  python benchmarks/seed_table.py [--repeats N] [--quick]
+Writes ``data/derived/seed_table.csv``.
+
+Setting of the seed's table: 960x960, one sample per pixel, trace depth 1 to 10, the scenes
+``data/scenes/seed_{one_bubble,two_bubbles,three_bubbles}.txt`` (reconstructions: the seed does
+not give its scenes), each rendered pruned (the default threshold) and exhaustive (threshold 0,
+the seed's tree), compilation excluded, median of ``--repeats`` runs, all in one process.  The
+seed's own times (Apple M3 Pro, ``data/seed_table_4_1.csv``) are written beside ours.  Finally
+a fresh process is timed from start to a saved 960x960 image (compiled code comes from numba's
+cache).
+"""
+
+import argparse
+import csv
+import datetime
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "data" / "derived" / "seed_table.csv"
+SCENES = {1: "seed_one_bubble.txt", 2: "seed_two_bubbles.txt", 3: "seed_three_bubbles.txt"}
+SEED_COLUMNS = {1: "one_bubble", 2: "two_bubbles", 3: "three_bubbles"}
+
+
+def seed_times():
+    rows = [ln for ln in (ROOT / "data" / "seed_table_4_1.csv").read_text().splitlines() if not ln.startswith("#")]
+    reader = csv.DictReader(rows)
+    return {int(r["depth"]): {k: float(r[v]) for k, v in SEED_COLUMNS.items()} for r in reader}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--quick", action="store_true", help="240x240, one repeat (smoke test)")
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args(argv)
+    size = 240 if args.quick else 960
+    repeats = 1 if args.quick else args.repeats
+
+    import tracer
+    from tqdm import tqdm
+
+    seed = seed_times()
+    modes = {"pruned": tracer.DEFAULTS["threshold"], "exhaustive": 0.0}
+    rows = []
+    jobs = [(nb, depth, mode) for nb in SCENES for mode in modes for depth in range(1, 11)]
+    scenes = {nb: tracer.load_scene(ROOT / "data" / "scenes" / name) for nb, name in SCENES.items()}
+    tracer.render(scenes[1], width=8, height=8, depth=2, progress=False)  # load compiled code
+    for nb, depth, mode in tqdm(jobs, desc="seed table", unit="render", disable=None):
+        times = []
+        for _ in range(repeats):
+            _, stats = tracer.render_with_stats(scenes[nb], width=size, height=size, depth=depth, spp=1,
+                                                threshold=modes[mode], progress=False)
+            times.append(stats.render_seconds)
+        med = float(np.median(times))
+        rows.append(dict(
+            bubbles=nb, depth=depth, mode=mode, threshold=modes[mode], width=size, height=size,
+            seconds_median=med, seconds_runs=" ".join(f"{t:.4f}" for t in times),
+            rays_camera=stats.rays["camera"], rays_reflected=stats.rays["reflected"],
+            rays_transmitted=stats.rays["transmitted"], rays_shadow=stats.rays["shadow"],
+            rays_total=stats.rays["total"], seed_seconds=seed[depth][nb],
+            speedup_vs_seed=seed[depth][nb] / med if size == 960 else "",
+        ))
+
+    def get(nb, depth, mode):
+        return next(r for r in rows if r["bubbles"] == nb and r["depth"] == depth and r["mode"] == mode)
+
+    print(f"\n{size}x{size}, 1 spp, median of {repeats}; seconds (compilation excluded)")
+    print("depth | " + " | ".join(f"{nb} bubble{'s' if nb > 1 else ''}: seed / pruned / exhaustive" for nb in SCENES))
+    for depth in range(1, 11):
+        cells = [f"{seed[depth][nb]:8.2f} / {get(nb, depth, 'pruned')['seconds_median']:6.3f} / "
+                 f"{get(nb, depth, 'exhaustive')['seconds_median']:6.3f}" for nb in SCENES]
+        print(f"{depth:5d} | " + " | ".join(cells))
+    for mode in modes:
+        for nb in SCENES:
+            g = get(nb, 10, mode)["seconds_median"] / get(nb, 1, mode)["seconds_median"]
+            print(f"{mode:10s} {nb} bubble(s): depth 10 / depth 1 = {g:5.2f}x "
+                  f"(seed {seed[10][nb] / seed[1][nb]:.0f}x)")
+    t3 = get(3, 10, "pruned")["seconds_median"]
+    print(f"three bubbles, depth 10, pruned: {t3:.3f} s (target <= 1.9 s); seed 1889.56 s: {1889.56 / t3:,.0f}x")
+
+    # a fresh process, start to a saved image, compiled code from the cache
+    cold = []
+    out_png = Path(os.environ.get("TMPDIR", "/tmp")) / "seed_table_cold.png"
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "tracer", "image", str(ROOT / "data" / "scenes" / SCENES[3]),
+                        str(out_png), "--quiet", "--width", str(size), "--height", str(size)], check=True)
+        cold.append(time.perf_counter() - t0)
+    print(f"fresh process to a {size}x{size} image: median {np.median(cold):.2f} s "
+          f"({' '.join(f'{t:.2f}' for t in cold)})")
+    rows.append(dict(bubbles=3, depth=tracer.DEFAULTS["depth"], mode="fresh process, start to saved image",
+                     threshold=tracer.DEFAULTS["threshold"], width=size, height=size,
+                     seconds_median=float(np.median(cold)), seconds_runs=" ".join(f"{t:.4f}" for t in cold)))
+
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = args.out.with_suffix(".csv.tmp")
+    fields = list(rows[0].keys())
+    with open(tmp, "w", newline="") as fh:
+        fh.write(f"# written by benchmarks/seed_table.py on {datetime.date.today()} "
+                 f"({platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}); "
+                 "seed_seconds: the seed's table 4.1 (Apple M3 Pro)\n")
+        writer = csv.DictWriter(fh, fieldnames=fields, restval="")
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(tmp, args.out)
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
