@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench notebooks clean
+.PHONY: demo test bench clean clean-cache
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -12,9 +12,12 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-## make demo: the main job on the built-in default scene (for now: the thin-film plots).
+## make demo: the main job: render the built-in bubble scene (960x960), plus the thin-film plots.
 demo: $(STAMP)
-	$(PY) -m bubbleoptics.demo
+	mkdir -p demo-output
+	$(PY) -m bubbleoptics.demo --out demo-output
+	$(PY) -m tracer image demo-output/bubbles.png
+	@echo "$(CURDIR)/demo-output/bubbles.png"
 
 ## make test: the whole test suite, including every notebook in quick mode.
 test: $(STAMP)
@@ -23,6 +26,12 @@ test: $(STAMP)
 ## make bench: the speed benchmarks (not part of the tests; results go to data/derived/).
 bench: $(STAMP)
 	$(PY) benchmarks/optics_speed.py
+	$(PY) benchmarks/seed_table.py
 
-clean:
+## numba's on-disk cache is keyed on each function's own file, not on the kernels it calls in
+## other modules: after editing a kernel, clear it (a fresh clone never has one).
+clean-cache:
+	find . -name '*.nbi' -delete -o -name '*.nbc' -delete
+
+clean: clean-cache
 	rm -rf $(VENV) build *.egg-info demo-output

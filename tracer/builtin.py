@@ -15,15 +15,15 @@ def default_scene():
     sun = (0.45, 0.55, 0.7)
     return Scene(
         bubbles=[
-            Bubble((-0.55, 0.05, 0.0), 0.6, FilmProfile("draining", top_nm=150.0, bottom_nm=1400.0, swirl=0.25,
-                                                         swirl_scale=7.0, seed=1), name="young"),
-            Bubble((0.62, 0.32, -0.4), 0.42, FilmProfile("draining", top_nm=60.0, bottom_nm=800.0, swirl=0.15,
-                                                          swirl_scale=5.0, seed=2), name="middle-aged"),
-            Bubble((0.3, -0.5, 0.7), 0.25, FilmProfile("draining", top_nm=20.0, bottom_nm=420.0, swirl=0.08,
+            Bubble((-0.55, 0.05, 0.0), 0.6, FilmProfile("draining", top_nm=180.0, bottom_nm=950.0, swirl=0.35,
+                                                         swirl_scale=9.0, seed=1), name="young"),
+            Bubble((0.62, 0.32, -0.4), 0.42, FilmProfile("draining", top_nm=90.0, bottom_nm=650.0, swirl=0.25,
+                                                          swirl_scale=7.0, seed=2), name="middle-aged"),
+            Bubble((0.3, -0.5, 0.7), 0.25, FilmProfile("draining", top_nm=25.0, bottom_nm=380.0, swirl=0.12,
                                                         seed=3), name="old"),
         ],
         lights=[PointLight(position=(4.5, 5.5, 7.0), intensity=2.0)],
-        camera=Camera(position=(0.0, 0.15, 4.2), look_at=(0.05, 0.0, 0.0), up=(0.0, 1.0, 0.0), fov_deg=38.0),
+        camera=Camera(position=(0.0, 1.6, 4.0), look_at=(0.05, -0.05, 0.0), up=(0.0, 1.0, 0.0), fov_deg=38.0),
         environment=Environment(kind="sky", sun_direction=sun),
         ambient=(0.0, 0.0, 0.0),
         source="<built-in bubble scene>",

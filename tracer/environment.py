@@ -15,11 +15,12 @@ ENV_SKY = 1
 ENV_IMAGE = 2
 
 # Procedural sky colours (linear sRGB), chosen by eye to resemble a clear daytime sky: a
-# saturated zenith, a pale horizon and a dull ground, so bubbles have structure to reflect.
+# saturated zenith, a pale horizon and a dark ground (like grass), so bubbles seen against the
+# ground show the bright sky they reflect, as in photographs of bubbles outdoors.
 _ZENITH = (0.16, 0.33, 0.80)
 _HORIZON = (0.85, 0.92, 1.00)
-_GROUND_NEAR = (0.38, 0.35, 0.30)
-_GROUND_FAR = (0.16, 0.15, 0.13)
+_GROUND_NEAR = (0.045, 0.05, 0.035)
+_GROUND_FAR = (0.012, 0.015, 0.01)
 _SUN = (30.0, 28.0, 24.0)
 
 
