@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from pathlib import Path
 
 __all__ = ["main"]
@@ -43,6 +44,16 @@ def _positive_int(text):
     return value
 
 
+def _nonnegative_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}")
+    return value
+
+
 def _threshold(text):
     try:
         value = float(text)
@@ -53,15 +64,20 @@ def _threshold(text):
     return value
 
 
-def _add_render_options(p, defaults):
-    p.add_argument("--width", type=_positive_int, default=defaults["width"], help="image width in pixels")
-    p.add_argument("--height", type=_positive_int, default=defaults["height"], help="image height in pixels")
-    p.add_argument("--spp", type=_positive_int, default=defaults["spp"], help="samples per pixel (stratified)")
-    p.add_argument("--threshold", type=_threshold, default=defaults["threshold"],
+#: Options whose default comes from a TOML scene's [render] table when it has one, else DEFAULTS.
+_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed")
+
+
+def _add_render_options(p):
+    # default None means "not given": resolved after the scene is read (_resolve_settings)
+    p.add_argument("--width", type=_positive_int, help="image width in pixels")
+    p.add_argument("--height", type=_positive_int, help="image height in pixels")
+    p.add_argument("--spp", type=_positive_int, help="samples per pixel (stratified)")
+    p.add_argument("--threshold", type=_threshold,
                    help="prune child rays whose throughput is at most this (0: the seed's exhaustive tree)")
-    p.add_argument("--spectral-samples", type=_positive_int, default=defaults["spectral_samples"],
+    p.add_argument("--spectral-samples", type=_positive_int,
                    help="wavelength bands for spectral transport (scenes with bubbles)")
-    p.add_argument("--seed", type=int, default=defaults["seed"], help="random seed for sample positions")
+    p.add_argument("--seed", type=_nonnegative_int, help="random seed for sample positions")
     p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
                    help="replace the environment by this constant linear-RGB colour")
     p.add_argument("--bits", type=int, choices=(8, 16), default=8, help="PNG bit depth")
@@ -71,21 +87,24 @@ def _add_render_options(p, defaults):
 def build_parser():
     from .render import DEFAULTS
 
-    parser = _Parser(prog="tracer", description="A spectral Whitted ray tracer for soap-bubble scenes.")
+    epilog = ("Render options not given take their value from a TOML scene's [render] table, else the "
+              f"defaults: {', '.join(f'{k}={v}' for k, v in DEFAULTS.items())}.")
+    parser = _Parser(prog="tracer", description="A spectral Whitted ray tracer for soap-bubble scenes.",
+                     epilog=epilog)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     img = sub.add_parser("image", help="render a scene to an image (.png, or .npy linear float)",
-                         description="Render SCENE (or the built-in bubble scene) to OUT.")
+                         description="Render SCENE (or the built-in bubble scene) to OUT.", epilog=epilog)
     img.add_argument("paths", nargs="+", metavar="[SCENE] OUT", help="scene file (optional) and output image")
-    img.add_argument("--depth", type=_positive_int, default=DEFAULTS["depth"], help="maximum ray generation")
-    _add_render_options(img, DEFAULTS)
+    img.add_argument("--depth", type=_positive_int, help="maximum ray generation")
+    _add_render_options(img)
     res = sub.add_parser("research", help="render at a trace depth and report the time and ray counts",
                          description="Render SCENE to OUT at trace depth DEPTH; print the render time "
-                                     "(compilation excluded) and the rays traced by kind.")
+                                     "(compilation excluded) and the rays traced by kind.", epilog=epilog)
     res.add_argument("scene", metavar="SCENE")
     res.add_argument("out", metavar="OUT")
     res.add_argument("depth", type=_positive_int, metavar="DEPTH")
     res.add_argument("--json", action="store_true", help="print one JSON object")
-    _add_render_options(res, DEFAULTS)
+    _add_render_options(res)
     return parser
 
 
@@ -103,6 +122,37 @@ def _check_output(out):
     return out
 
 
+def _load_scene(path):
+    """load_scene, with each SceneWarning printed as its own one line ``FILE:LINE: ...`` on stderr
+    (not Python's two-line warning format naming the loader's source line)."""
+    from .errors import SceneWarning
+    from .io import load_scene
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SceneWarning)
+        scene = load_scene(path)
+    for w in caught:
+        if issubclass(w.category, SceneWarning):
+            print(str(w.message), file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return scene
+
+
+def _resolve_settings(args, scene):
+    """An option given on the command line, else the scene's [render] table (TOML), else DEFAULTS."""
+    from .render import DEFAULTS
+
+    settings = dict(DEFAULTS)
+    settings.update(scene.render_defaults)
+    for key in _SCENE_DEFAULTED + (("depth",) if args.command == "image" else ()):
+        if getattr(args, key) is not None:
+            settings[key] = getattr(args, key)
+    if args.command == "research":
+        settings["depth"] = args.depth
+    return settings
+
+
 def main(argv=None):
     args = build_parser().parse_args(argv)
     from .errors import SceneError
@@ -113,25 +163,23 @@ def main(argv=None):
             if len(args.paths) > 2:
                 return _fail("tracer image: error: expected [SCENE] OUT")
             scene_path, out = (None, args.paths[0]) if len(args.paths) == 1 else args.paths
-            depth = args.depth
         else:
-            scene_path, out, depth = args.scene, args.out, args.depth
+            scene_path, out = args.scene, args.out
         out = _check_output(out)
         if scene_path is None:
             from .builtin import default_scene
 
             scene = default_scene()
         else:
-            from .io import load_scene
-
-            scene = load_scene(scene_path)
+            scene = _load_scene(scene_path)
         if args.background is not None:
             from .scene import Environment
 
             scene.environment = Environment(kind="constant", color=args.background)
+        s = _resolve_settings(args, scene)
         image, stats = render_with_stats(
-            scene, width=args.width, height=args.height, depth=depth, spp=args.spp, threshold=args.threshold,
-            spectral_samples=args.spectral_samples, seed=args.seed, progress=False if args.quiet else None,
+            scene, width=s["width"], height=s["height"], depth=s["depth"], spp=s["spp"], threshold=s["threshold"],
+            spectral_samples=s["spectral_samples"], seed=s["seed"], progress=False if args.quiet else None,
         )
         save_image(image, out, bits=args.bits)
     except SceneError as err:
@@ -139,13 +187,13 @@ def main(argv=None):
     except (ValueError, OSError) as err:
         return _fail(f"tracer: error: {err}")
     if args.command == "research":
-        report = dict(scene=str(scene_path), depth=depth, width=args.width, height=args.height, spp=args.spp,
-                      threshold=args.threshold, spectral=stats.spectral, channels=stats.channels,
+        report = dict(scene=str(scene_path), depth=s["depth"], width=s["width"], height=s["height"], spp=s["spp"],
+                      threshold=s["threshold"], spectral=stats.spectral, channels=stats.channels,
                       render_seconds=stats.render_seconds, rays=stats.rays)
         if args.json:
             print(json.dumps(report))
         else:
-            print(f"{scene_path}: depth {depth}, {args.width}x{args.height}, {args.spp} spp: "
+            print(f"{scene_path}: depth {s['depth']}, {s['width']}x{s['height']}, {s['spp']} spp: "
                   f"{stats.render_seconds:.3f} s (compilation excluded)")
             print("rays: " + ", ".join(f"{k} {v:,}" for k, v in stats.rays.items()))
     return 0

@@ -155,7 +155,11 @@ def save_image(image, path, *, bits=8):
         raise ValueError(f"image must have shape (H, W, 3) (got {image.shape})")
     suffix = path.suffix.lower()
     if suffix == ".npy":
-        _atomic_write(path, lambda tmp: np.save(open(tmp, "wb"), image))
+        def write_npy(tmp):  # through a file object: np.save(name) would append ".npy" to the temp name
+            with open(tmp, "wb") as f:
+                np.save(f, image)
+
+        _atomic_write(path, write_npy)
         return path
     if suffix != ".png":
         raise ValueError(f"unsupported image type {path.suffix!r}: use .png or .npy")
@@ -167,7 +171,17 @@ def save_image(image, path, *, bits=8):
     encoded = colour.cctf_encoding(np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0), function="sRGB")
     if bits == 8:
         data = np.round(encoded * 255).astype(np.uint8)
+        _atomic_write(path, lambda tmp: iio.imwrite(tmp, data, extension=".png"))
     else:
+        # Pillow (imageio's PNG writer) has no 16-bit-per-channel RGB mode; pypng writes it
+        import png
+
         data = np.round(encoded * 65535).astype(np.uint16)
-    _atomic_write(path, lambda tmp: iio.imwrite(tmp, data, extension=".png"))
+        h, w, _ = data.shape
+
+        def write_png16(tmp):
+            with open(tmp, "wb") as f:
+                png.Writer(width=w, height=h, bitdepth=16, greyscale=False).write(f, data.reshape(h, w * 3))
+
+        _atomic_write(path, write_png16)
     return path
