@@ -192,6 +192,35 @@ def push(st_o, st_d, st_thr, st_gen, sp, o, d, gen):
 
 
 @njit(**_JIT)
+def light_terms(lpos, p, nf, d):
+    """(N.L, R.V) for the light at *lpos* seen from *p*: the cosine between the facing normal
+    *nf* and the direction to the light, and between the light's mirror direction about *nf*
+    and the direction to the viewer (-d) — the two cosines of the Phong terms of the seed's
+    eq. 1.4.  R.V is 0 when the light is behind the surface (N.L <= 0)."""
+    lx = lpos[0] - p[0]
+    ly = lpos[1] - p[1]
+    lz = lpos[2] - p[2]
+    ln = math.sqrt(lx * lx + ly * ly + lz * lz)
+    ndl = (lx * nf[0] + ly * nf[1] + lz * nf[2]) / ln
+    if ndl <= 0.0:
+        return ndl, 0.0
+    rl = 2.0 * ndl
+    rv = -((rl * nf[0] - lx / ln) * d[0] + (rl * nf[1] - ly / ln) * d[1] + (rl * nf[2] - lz / ln) * d[2])
+    return ndl, max(rv, 0.0)
+
+
+@njit(**_JIT)
+def push_child(st_o, st_d, st_thr, st_gen, sp, o, d, gen, weight, threshold):
+    """Push a child ray with throughput *weight* (per channel) if :func:`keep_child` says so;
+    returns (new stack pointer, pushed?)."""
+    if not keep_child(weight, threshold):
+        return sp, False
+    for c in range(weight.shape[0]):
+        st_thr[sp, c] = weight[c]
+    return push(st_o, st_d, st_thr, st_gen, sp, o, d, gen), True
+
+
+@njit(**_JIT)
 def keep_child(w, threshold):
     """Trace a child whose throughput is *w*? (its lobe exists; pruning when threshold > 0)."""
     m = 0.0
@@ -240,40 +269,26 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
             bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T)
             shin = bubbles[idx, 4]
             for j in range(lights.shape[0]):
-                lx = lights[j, 0] - p[0]
-                ly = lights[j, 1] - p[1]
-                lz = lights[j, 2] - p[2]
-                ln = math.sqrt(lx * lx + ly * ly + lz * lz)
-                ndl = (lx * nf[0] + ly * nf[1] + lz * nf[2]) / ln
-                if ndl <= 0.0:
-                    continue
-                # mirror direction of the light: the highlight peaks where it meets the viewer
-                rl = 2.0 * ndl
-                rv = -((rl * nf[0] - lx / ln) * d[0] + (rl * nf[1] - ly / ln) * d[1] + (rl * nf[2] - lz / ln) * d[2])
+                lpos = (lights[j, 0], lights[j, 1], lights[j, 2])
+                ndl, rv = light_terms(lpos, p, nf, d)
                 if rv <= 0.0:
-                    continue
+                    continue  # light behind the film, or its mirror image away from the viewer
                 spec = rv**shin
                 if spec < 1e-12:
                     continue
-                if shadow_transmittance(p_front, (lights[j, 0], lights[j, 1], lights[j, 2]), trans, sc, counts):
+                if shadow_transmittance(p_front, lpos, trans, sc, counts):
                     for c in range(nc):
                         L[c] += w[c] * R[c] * trans[c] * light_rad[j, c] * spec
             if gen < depth:
                 # transmitted first (deeper in the stack), reflected on top
                 for c in range(nc):
                     trans[c] = w[c] * T[c]
-                if keep_child(trans, threshold):
-                    for c in range(nc):
-                        st_thr[sp, c] = trans[c]
-                    sp = push(st_o, st_d, st_thr, st_gen, sp, p_back, d, gen + 1)
-                    counts[2] += 1
+                sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_back, d, gen + 1, trans, threshold)
+                counts[2] += pushed
                 for c in range(nc):
                     trans[c] = w[c] * R[c]
-                if keep_child(trans, threshold):
-                    for c in range(nc):
-                        st_thr[sp, c] = trans[c]
-                    sp = push(st_o, st_d, st_thr, st_gen, sp, p_front, refl, gen + 1)
-                    counts[1] += 1
+                sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_front, refl, gen + 1, trans, threshold)
+                counts[1] += pushed
             continue
         # material surface
         m = int(spheres[idx, 4]) if kind == HIT_SPHERE else int(tri_info[idx, 3])
@@ -284,20 +299,12 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
                 L[c] += w[c] * ka * mat_color[m, c] * ambient[c]
         if kd > 0.0 or ks > 0.0:
             for j in range(lights.shape[0]):
-                lx = lights[j, 0] - p[0]
-                ly = lights[j, 1] - p[1]
-                lz = lights[j, 2] - p[2]
-                ln = math.sqrt(lx * lx + ly * ly + lz * lz)
-                ndl = (lx * nf[0] + ly * nf[1] + lz * nf[2]) / ln
+                lpos = (lights[j, 0], lights[j, 1], lights[j, 2])
+                ndl, rv = light_terms(lpos, p, nf, d)
                 if ndl <= 0.0:
                     continue  # light behind the surface: no shadow ray
-                spec = 0.0
-                if ks > 0.0:
-                    rl = 2.0 * ndl
-                    rv = -((rl * nf[0] - lx / ln) * d[0] + (rl * nf[1] - ly / ln) * d[1] + (rl * nf[2] - lz / ln) * d[2])
-                    if rv > 0.0:
-                        spec = ks * rv**shin
-                if shadow_transmittance(p_front, (lights[j, 0], lights[j, 1], lights[j, 2]), trans, sc, counts):
+                spec = ks * rv**shin if (ks > 0.0 and rv > 0.0) else 0.0
+                if shadow_transmittance(p_front, lpos, trans, sc, counts):
                     for c in range(nc):
                         L[c] += w[c] * light_rad[j, c] * trans[c] * (kd * ndl * mat_color[m, c] + spec)
         if gen >= depth or (ks <= 0.0 and kt <= 0.0):
@@ -323,19 +330,13 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
             if F < 1.0:
                 for c in range(nc):
                     trans[c] = w[c] * kt * (1.0 - F) * mat_color[m, c]
-                if keep_child(trans, threshold):
-                    for c in range(nc):
-                        st_thr[sp, c] = trans[c]
-                    sp = push(st_o, st_d, st_thr, st_gen, sp, p_back, tdir, gen + 1)
-                    counts[2] += 1
+                sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_back, tdir, gen + 1, trans, threshold)
+                counts[2] += pushed
         if ks > 0.0 or (kt > 0.0 and F > 0.0):
             for c in range(nc):
                 trans[c] = w[c] * (ks * mat_color[m, c] + kt * F)
-            if keep_child(trans, threshold):
-                for c in range(nc):
-                    st_thr[sp, c] = trans[c]
-                sp = push(st_o, st_d, st_thr, st_gen, sp, p_front, refl, gen + 1)
-                counts[1] += 1
+            sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_front, refl, gen + 1, trans, threshold)
+            counts[1] += pushed
 
 
 @njit(**_JIT_PARALLEL)
