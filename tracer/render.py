@@ -91,7 +91,7 @@ def render_with_stats(
     if show:
         from tqdm import tqdm
 
-        bar = tqdm(total=height, unit="row", desc="render", leave=False, file=sys.stderr)
+        bar = tqdm(total=height, unit="row", desc="render", leave=False, file=sys.stderr, delay=0.5)
     t0 = time.perf_counter()
     for row0 in range(0, height, chunk):
         row1 = min(height, row0 + chunk)
