@@ -100,28 +100,39 @@ def main(argv=None):
     def ours():
         return bo.film_reflectance(wl[:, None, None], d, theta[None, :, None], n_water[:, None, None])
 
-    R_ours = ours()  # compile / load cache
-    t_ours, _ = median_time(ours, args.repeats)
-    record("sweep", "bubbleoptics.film_reflectance", t_ours, args.repeats, 0.0)
-    print(f"  bubbleoptics        {t_ours * 1e3:9.1f} ms  (median of {args.repeats})")
-
     n_stack = np.array([np.ones_like(wl), n_water, np.ones_like(wl)])
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        R_col = thin_film_tmm(n_stack, d, wl, np.rad2deg(theta))[0].mean(axis=-1)
-        t_col, _ = median_time(lambda: thin_film_tmm(n_stack, d, wl, np.rad2deg(theta)), max(3, args.repeats // 3), warmup=1)
+
+    def colour_sweep():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return thin_film_tmm(n_stack, d, wl, np.rad2deg(theta))[0].mean(axis=-1)
+
+    def numpy_sweep():
+        return numpy_airy_unpolarized(wl[:, None, None], d, theta[None, :, None], n_water[:, None, None])
+
+    # warm up, then interleave the peers in every repeat so that they see the same machine
+    R_ours, R_col, R_np = ours(), colour_sweep(), numpy_sweep()
+    for _ in range(2):
+        ours()
+    times = {"ours": [], "colour": [], "numpy": []}
+    for k in range(args.repeats):
+        for name, func in (("ours", ours), ("numpy", numpy_sweep), ("colour", colour_sweep)):
+            if name == "colour" and k % 3:
+                continue  # colour-science is ~200x slower: every third repeat is enough
+            t0 = time.perf_counter()
+            func()
+            times[name].append(time.perf_counter() - t0)
+    t_ours = float(np.median(times["ours"]))
+    t_col = float(np.median(times["colour"]))
+    t_np = float(np.median(times["numpy"]))
+    record("sweep", "bubbleoptics.film_reflectance", t_ours, len(times["ours"]), 0.0)
+    print(f"  bubbleoptics        {t_ours * 1e3:9.1f} ms  (median of {len(times['ours'])}, interleaved with the peers)")
     dev_col = float(np.max(np.abs(R_col - R_ours)))
-    record("sweep", f"colour-science {colour.__version__} thin_film_tmm", t_col, max(3, args.repeats // 3), dev_col,
+    record("sweep", f"colour-science {colour.__version__} thin_film_tmm", t_col, len(times["colour"]), dev_col,
            "refraction angles taken from the first wavelength only (dispersion ignored in angles)")
     print(f"  colour-science      {t_col * 1e3:9.1f} ms   max |dR| vs ours {dev_col:.2e}")
-
-    R_np = numpy_airy_unpolarized(wl[:, None, None], d, theta[None, :, None], n_water[:, None, None])
-    t_np, _ = median_time(
-        lambda: numpy_airy_unpolarized(wl[:, None, None], d, theta[None, :, None], n_water[:, None, None]),
-        max(3, args.repeats // 3),
-    )
     dev_np = float(np.max(np.abs(R_np - R_ours)))
-    record("sweep", "plain NumPy Airy formula", t_np, max(3, args.repeats // 3), dev_np)
+    record("sweep", "plain NumPy Airy formula", t_np, len(times["numpy"]), dev_np)
     print(f"  plain NumPy Airy    {t_np * 1e3:9.1f} ms   max |dR| vs ours {dev_np:.2e}")
 
     rng = np.random.default_rng(0)

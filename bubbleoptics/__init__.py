@@ -7,6 +7,18 @@ The physics lives once, as numba kernels in :mod:`bubbleoptics.kernels`; the fun
 broadcast over them like NumPy ufuncs, and the ray tracer (:mod:`tracer`) calls the same kernels.
 """
 
+import os as _os
+
+import numba as _numba
+
+# numba's OpenMP threading layer busy-waits at barriers: on a shared or oversubscribed machine
+# (CI runners, VMs with a busy neighbour) that turned a 3 ms parallel sweep into 40 ms, while
+# numba's own "workqueue" layer stayed at 3.4 ms (measured here, see the optics issue's note).
+# Prefer it unless the user chose a layer; this only takes effect if no parallel numba code
+# has run yet in the process.
+if "NUMBA_THREADING_LAYER" not in _os.environ:
+    _numba.config.THREADING_LAYER = "workqueue"
+
 from .colorimetry import (
     XYZ_to_display_sRGB,
     band_spectral_weights,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -154,6 +155,17 @@ def _resolve_settings(args, scene):
 
 
 def main(argv=None):
+    """Run the command line; returns the exit status (0, or 2 for bad input)."""
+    try:
+        return _main(argv)
+    except BrokenPipeError:
+        # stdout closed early (e.g. piped into `head`): no traceback; Python's documented idiom
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
+
+
+def _main(argv=None):
     args = build_parser().parse_args(argv)
     from .errors import SceneError
     from .render import render_with_stats, save_image
