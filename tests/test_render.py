@@ -257,3 +257,16 @@ def test_glass_sphere_energy_in_uniform_environment():
     steep = incidence_cosines(scene, SMALL["width"], SMALL["height"]) > 0.6
     np.testing.assert_allclose(img[steep], np.broadcast_to((0.2, 0.4, 0.6), img.shape)[steep], atol=1e-9)
     assert np.all(luminance(img) <= luminance(np.array((0.2, 0.4, 0.6))) + 1e-12)
+
+
+@pytest.mark.analytic
+def test_light_exactly_on_a_surface_makes_no_nan():
+    """A point light placed exactly on a sphere's surface (zero distance to the pixels that see
+    that point) and inside a bubble's film: every pixel stays finite."""
+    scene = full_scene()
+    sph = scene.spheres[0]
+    scene.lights = [PointLight((sph.center[0], sph.center[1], sph.center[2] + sph.radius), 1.0),
+                    PointLight((0.3, 0.2 + 0.9, 1.0), 1.0)]
+    scene.camera = Camera(position=(sph.center[0], sph.center[1], 4.0), look_at=sph.center, fov_deg=20)
+    img = tracer.render(scene, width=33, height=33, depth=4, progress=False)
+    assert np.isfinite(img).all()

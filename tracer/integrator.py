@@ -201,6 +201,8 @@ def light_terms(lpos, p, nf, d):
     ly = lpos[1] - p[1]
     lz = lpos[2] - p[2]
     ln = math.sqrt(lx * lx + ly * ly + lz * lz)
+    if not ln > 0.0:
+        return 0.0, 0.0  # a light exactly on the surface lights nothing (and makes no NaN)
     ndl = (lx * nf[0] + ly * nf[1] + lz * nf[2]) / ln
     if ndl <= 0.0:
         return ndl, 0.0
