@@ -1,0 +1,94 @@
+"""Figure: growth laws fitted to the seed's table 4.1, and their relative residuals.
+
+Run:  python paper/scripts/fig_depth_fits.py [--quick]
+Reads ``data/seed_table_4_1.csv``; writes ``fig_depth_fits.pdf``/``.png``.
+
+Top: the seed's times (circles) with the affine exponential a + c·b^d (solid), the pure
+exponential a·b^d (dotted) and the seed's fourth-degree polynomial (dashed), one colour per
+scene.  Bottom: relative residuals (t − t̂)/t of each law, one panel per law, titled with its
+number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
+to depths 1-7 (TRAIN_DEPTH), which tells a law that explains the growth from one that
+interpolates it.  All fits by tracer.study with the same weighting (relative, 1/t; the
+quartic as well, so that every law sits at its own optimum of the same criterion).
+Quick mode draws the same figure (the fits take milliseconds).
+"""
+
+import sys
+
+import numpy as np
+
+import paths
+import style
+from tracer.study import compare_fits, fit_affine_exponential, fit_exponential, fit_polynomial, holdout_errors, \
+    load_seed_table
+
+SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
+LAWS = {  # model name of tracer.study -> panel title, line style, fitter
+    "affine exponential": ("$a + c\\,b^d$ (3)", "-", fit_affine_exponential),
+    "exponential": ("$a\\,b^d$ (2)", ":", fit_exponential),
+    "polynomial, degree 4": ("quartic (5)", "--", lambda d, t, relative: fit_polynomial(d, t, 4, relative=relative)),
+}
+TRAIN_DEPTH = 7  # the held-out test fits depths 1..7 and predicts 8..10
+
+
+def main(argv=None):
+    paths.parse_args(__doc__.splitlines()[0], argv)
+    seed = load_seed_table(paths.SEED_TABLE)
+    depth = seed["depth"]
+    fine = np.linspace(1.0, 10.0, 200)
+
+    fig = style.figure(height=3.6)
+    axes = fig.subplot_mosaic([["fit"] * 3, list(LAWS)], height_ratios=(2.2, 1.0), sharex=False)
+    colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
+    worst = {law: 0.0 for law in LAWS}
+    for (nb, name), color in zip(SCENES.items(), colors):
+        comparison = compare_fits(depth, seed["seconds"][nb])
+        fits = {row["model"]: row["fit"] for row in comparison.rows}
+        axes["fit"].plot(depth, seed["seconds"][nb], "o", color=color, markerfacecolor="white",
+                         markeredgewidth=0.7, label=name, zorder=3)
+        for law, (_, ls, fitter) in LAWS.items():
+            axes["fit"].plot(fine, fits[law].predict(fine), ls, color=color, linewidth=0.8)
+            axes[law].plot(depth, 100 * fits[law].relative_residuals, "o-", color=color, linewidth=0.6,
+                           markersize=2.2)
+            held, err = holdout_errors(fitter, depth, seed["seconds"][nb], TRAIN_DEPTH, relative=True)
+            axes[law].plot(held, 100 * err, "x", color=color, markersize=3.5, markeredgewidth=0.8)
+            worst[law] = max(worst[law], float(np.abs(fits[law].relative_residuals).max()), float(np.abs(err).max()))
+            print(f"  {law}: fitted to depths 1-{TRAIN_DEPTH}, error at depth 10 {100 * err[-1]:+.1f} %")
+        b = fits["affine exponential"].params["b"]
+        print(f"{name}: best {comparison.best}; affine exponential b = {b:.3f}")
+
+    ax = axes["fit"]
+    ax.set_yscale("log")
+    ax.set_xlabel("trace depth $d$")
+    ax.set_ylabel("seed's render time $t$ (s)")
+    ax.set_xticks(range(1, 11))
+    ax.set_xlim(0.7, 10.3)
+    from matplotlib.lines import Line2D
+
+    law_handles = [Line2D([], [], color="0.3", linestyle=ls, label=title) for title, ls, _ in LAWS.values()]
+    data_legend = ax.legend(loc="upper left")
+    ax.add_artist(data_legend)
+    ax.legend(handles=law_handles, loc="lower right")
+
+    limit = 100 * max(worst.values()) * 1.1
+    for i, (law, (title, _, _)) in enumerate(LAWS.items()):
+        a = axes[law]
+        a.axhline(0.0, color="0.6", linewidth=0.5)
+        a.set_title(title, pad=2)
+        a.set_ylim(-limit, limit)
+        a.set_xticks([1, 5, 10])
+        a.set_xlim(0.5, 10.5)
+        a.set_xlabel("$d$")
+        if i:
+            a.tick_params(labelleft=False)
+        else:
+            a.set_ylabel("$(t - \\hat t)/t$ (%)")
+            a.text(0.97, 0.05, f"$\\times$ fitted to $d \\leq {TRAIN_DEPTH}$", transform=a.transAxes, ha="right",
+                   va="bottom", fontsize=6)
+    for path in style.savefig(fig, "fig_depth_fits"):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

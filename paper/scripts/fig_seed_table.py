@@ -1,0 +1,68 @@
+"""Figure: the seed's table 4.1 against our re-run: render time against trace depth, log scale.
+
+Run:  python paper/scripts/fig_seed_table.py [--quick]
+Reads ``data/seed_table_4_1.csv`` (the seed, Apple M3 Pro) and ``data/derived/seed_table.csv``
+(ours, written by ``benchmarks/seed_table.py``); writes ``fig_seed_table.pdf``/``.png``.
+
+Colours: one, two, three bubbles.  Open circles, dotted: the seed.  Squares, solid: our
+exhaustive tree (the seed's algorithm, threshold 0).  Triangles, dashed: our default, pruned.
+Ours are medians of the benchmark's runs; the vertical bars span the fastest to the slowest run
+(the isolated spikes are runs disturbed by the shared two-core machine, not the algorithm).
+Quick mode draws the same figure (it only reads tables).
+"""
+
+import sys
+
+import numpy as np
+from matplotlib.lines import Line2D
+
+import paths
+import style
+from tracer.study import load_seed_table, load_timing, timing_series
+
+SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
+SOURCES = {  # label, marker, line style, filled marker
+    "seed": ("seed (Apple M3 Pro)", "o", ":", False),
+    "exhaustive": ("ours, exhaustive", "s", "-", True),
+    "pruned": ("ours, pruned", "^", "--", True),
+}
+
+
+def main(argv=None):
+    paths.parse_args(__doc__.splitlines()[0], argv)
+    seed = load_seed_table(paths.SEED_TABLE)
+    timing = load_timing(paths.TIMING)
+
+    fig = style.figure(height=2.7)
+    ax = fig.subplots()
+    colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
+    for (nb, name), color in zip(SCENES.items(), colors):
+        series = {"seed": (seed["depth"], seed["seconds"][nb])}
+        for mode in ("exhaustive", "pruned"):
+            series[mode] = timing_series(timing, nb, mode)
+            depth, runs = timing_series(timing, nb, mode, "seconds_runs")
+            ax.vlines(depth, np.nanmin(runs, axis=1), np.nanmax(runs, axis=1), color=color, linewidth=0.6)
+        for source, (depth, seconds) in series.items():
+            _, marker, ls, filled = SOURCES[source]
+            ax.plot(depth, seconds, ls, marker=marker, color=color, markerfacecolor=color if filled else "white",
+                    markeredgewidth=0.7, clip_on=False)
+    ax.set_yscale("log")
+    ax.set_xlabel("trace depth")
+    ax.set_ylabel("render time, $960 \\times 960$ (s)")
+    ax.set_xticks(range(1, 11))
+    ax.set_xlim(0.7, 10.3)
+    ax.grid(True, which="major", axis="y")
+
+    scene_handles = [Line2D([], [], color=c, label=n) for n, c in zip(SCENES.values(), colors)]
+    source_handles = [Line2D([], [], color="0.3", linestyle=ls, marker=m, markerfacecolor="0.3" if f else "white",
+                             markeredgewidth=0.7, label=label) for label, m, ls, f in SOURCES.values()]
+    first = ax.legend(handles=source_handles, loc="upper left")
+    ax.add_artist(first)
+    ax.legend(handles=scene_handles, loc="center right", bbox_to_anchor=(1.0, 0.38))
+    for path in style.savefig(fig, "fig_seed_table"):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

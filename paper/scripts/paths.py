@@ -1,0 +1,49 @@
+"""Where the paper's figure scripts read and write, and in which mode they run.
+
+Every ``fig_*.py`` script imports this module (it sits beside them, so ``import paths`` works
+when a script is run as ``python paper/scripts/fig_X.py``) and reads its inputs only from
+``DATA``/``DERIVED``, writing only into ``FIGURES``.
+
+* ``ROOT``: the repository; ``DATA``: ``data/`` (inputs with provenance, ``data/README.md``);
+  ``DERIVED``: ``data/derived/`` (benchmark outputs; each file names the command that
+  regenerates it).
+* ``FIGURES``: ``paper/figures/``, or the folder named by the environment variable
+  ``BUBBLEOPTICS_FIGURES_DIR`` (used by the tests to write into a temporary folder).  It is
+  created on demand by :func:`figures_dir`, never at import.
+* Quick mode (coarser grids, same figures): ``--quick`` on a script's command line or
+  ``BUBBLEOPTICS_QUICK=1`` in the environment (``make_figures.py --quick`` sets the latter).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+__all__ = ["ROOT", "DATA", "DERIVED", "SEED_TABLE", "TIMING", "FIGURES", "figures_dir", "parse_args"]
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "data"
+DERIVED = DATA / "derived"
+
+#: The seed coursework's table 4.1 (transcribed; provenance in data/README.md).
+SEED_TABLE = DATA / "seed_table_4_1.csv"
+#: Our re-run of it, written by benchmarks/seed_table.py.
+TIMING = DERIVED / "seed_table.csv"
+
+FIGURES = Path(os.environ.get("BUBBLEOPTICS_FIGURES_DIR") or ROOT / "paper" / "figures").resolve()
+
+
+def figures_dir() -> Path:
+    """``FIGURES``, created if missing."""
+    FIGURES.mkdir(parents=True, exist_ok=True)
+    return FIGURES
+
+
+def parse_args(description: str, argv=None) -> argparse.Namespace:
+    """The figure scripts' command line: ``[--quick]``; ``quick`` is also on with BUBBLEOPTICS_QUICK."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--quick", action="store_true", help="coarser grids (also: BUBBLEOPTICS_QUICK=1)")
+    args = parser.parse_args(argv)
+    args.quick = args.quick or os.environ.get("BUBBLEOPTICS_QUICK", "") not in ("", "0")
+    return args
