@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench clean clean-cache
+.PHONY: demo test bench paper clean clean-cache
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -28,10 +28,15 @@ bench: $(STAMP)
 	$(PY) benchmarks/optics_speed.py
 	$(PY) benchmarks/seed_table.py
 
+## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
+paper: $(STAMP)
+	$(MAKE) -C paper PYTHON=$(CURDIR)/$(PY)
+
 ## numba's on-disk cache is keyed on each function's own file, not on the kernels it calls in
 ## other modules: after editing a kernel, clear it (a fresh clone never has one).
 clean-cache:
 	find . -name '*.nbi' -delete -o -name '*.nbc' -delete
 
 clean: clean-cache
+	-$(MAKE) -C paper clean
 	rm -rf $(VENV) build *.egg-info demo-output

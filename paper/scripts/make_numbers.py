@@ -1,0 +1,556 @@
+"""Every number the paper quotes, as LaTeX macros: reads ``data/`` and writes ``paper/numbers.tex``.
+
+Run:  python paper/scripts/make_numbers.py [--out FILE] [--data DIR] [--derived DIR]
+(``make paper`` runs it before LaTeX).
+
+The text of ``paper/paper.tex`` never contains a measured or computed number: it writes
+``\\SpeedupColour`` and this script defines ``\\newcommand{\\SpeedupColour}{195}`` from
+``data/derived/optics_speed.csv``.  Each group of macros below (a *section*) names its input
+and the macros it defines.  When an input is missing or unreadable, every macro of its section
+is still defined, as a bold "n/a", and a warning naming the file goes to stderr: the paper
+always compiles, and a missing number is visible in the PDF.  The script never fails because of
+the data; it exits with status 0 and writes the whole file every time (atomically).
+
+Sources, section by section:
+
+* ``optics``: ``data/derived/optics_speed.csv`` (``benchmarks/optics_speed.py``, ``make bench``).
+* ``seed``: ``data/seed_table_4_1.csv`` (the seed's table 4.1) with the growth-law fits of
+  :mod:`tracer.study` (the same code as ``fig_depth_fits.py``: AICc ranking, relative weights,
+  laws fitted to depths 1-7 and tested at depth 10).
+* ``ours``: ``data/derived/seed_table.csv`` (``benchmarks/seed_table.py``).
+* ``grazing`` and ``aliasing``: ``data/derived/stability_grazing.csv`` and
+  ``stability_aliasing.csv`` (``benchmarks/stability.py``); unpolarized light, as in
+  ``fig_stability.py``.
+* ``physics``: computed here with :mod:`bubbleoptics` (the two-beam error, water's index): a
+  few milliseconds, no data file.
+* ``documented``: tolerances the test suite enforces, read from the sentences of ``README.md``
+  and the test modules' docstrings that state them (so the paper quotes what the repository
+  says, and a changed bar shows up as n/a rather than as a stale number).
+* ``defaults``: the renderer's defaults, from the signature of :func:`tracer.render`.
+
+Two macros are flags for ``\\ifnum`` in the text (:data:`FLAGS`): they are 0 or 1, never n/a.
+
+Number formats: :func:`significant` (plain decimals, thousands separated by a thin space) and
+:func:`scientific` (``a\\times10^{k}``, wrapped in ``\\ensuremath`` so a macro works in text and
+in mathematics).  Macro names are letters only (TeX control words).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import inspect
+import math
+import os
+import re
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+try:  # the figure scripts' one paths module, when it is there
+    import paths as _paths
+
+    ROOT = _paths.ROOT
+except ImportError:  # pragma: no cover - paths.py is part of the paper's scripts
+    ROOT = HERE.parents[1]
+
+DATA = ROOT / "data"
+OUT = ROOT / "paper" / "numbers.tex"
+NA = r"\NumberNA{}"
+
+__all__ = ["SECTIONS", "significant", "scientific", "build", "main"]
+
+
+# ------------------------------------------------------------------------------------------
+# formatting
+# ------------------------------------------------------------------------------------------
+def _group(digits: str) -> str:
+    """'1458000' -> '1\\,458\\,000' (thin spaces between groups of three, from 10 000 on)."""
+    if len(digits) <= 4:
+        return digits
+    head = len(digits) % 3 or 3
+    parts = [digits[:head]] + [digits[i : i + 3] for i in range(head, len(digits), 3)]
+    return r"\,".join(parts)
+
+
+def significant(x: float, n: int = 2, min_decimals: int = 0) -> str:
+    """*x* rounded to *n* significant digits, as plain decimals (no exponent).
+
+    >>> significant(195.28, 3), significant(31.97), significant(54771.9), significant(0.0019988 * 1000)
+    ('195', '32', '55\\\\,000', '2.0')
+    """
+    x = float(x)
+    if not math.isfinite(x):
+        return NA
+    if x == 0:
+        return "0"
+    exponent = math.floor(math.log10(abs(x)))
+    decimals = max(n - 1 - exponent, min_decimals, 0)
+    rounded = round(x, n - 1 - exponent)
+    text = f"{abs(rounded):.{decimals}f}"
+    whole, _, frac = text.partition(".")
+    out = _group(whole) + ("." + frac if frac else "")
+    return ("-" if rounded < 0 else "") + out
+
+
+def scientific(x: float, n: int = 2) -> str:
+    """*x* as ``a\\times10^{k}`` with *n* significant digits (``10^{k}`` when a = 1).
+
+    >>> scientific(8.48e-14), scientific(1e-12), scientific(0.0084722)
+    ('\\\\ensuremath{8.5\\\\times10^{-14}}', '\\\\ensuremath{10^{-12}}', '\\\\ensuremath{8.5\\\\times10^{-3}}')
+    """
+    x = float(x)
+    if not math.isfinite(x):
+        return NA
+    if x == 0:
+        return "0"
+    mantissa, _, exponent = f"{x:.{n - 1}e}".partition("e")
+    k = int(exponent)
+    if float(mantissa) == 1.0:
+        return rf"\ensuremath{{10^{{{k}}}}}"
+    if float(mantissa) == -1.0:
+        return rf"\ensuremath{{-10^{{{k}}}}}"
+    return rf"\ensuremath{{{mantissa}\times10^{{{k}}}}}"
+
+
+def _sci_or_plain(x: float, n: int = 2) -> str:
+    """Plain decimals between 0.01 and 10 000, scientific otherwise."""
+    return significant(x, n) if 0.01 <= abs(float(x)) < 1e4 else scientific(x, n)
+
+
+# ------------------------------------------------------------------------------------------
+# inputs
+# ------------------------------------------------------------------------------------------
+def read_commented_csv(path):
+    """(header comments, rows as dicts) of a CSV whose leading lines may start with '#'."""
+    lines = Path(path).read_text(encoding="utf-8").splitlines()
+    notes = [ln.lstrip("#").strip() for ln in lines if ln.startswith("#")]
+    rows = list(csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")))
+    if not rows:
+        raise ValueError(f"{path}: no rows")
+    return notes, rows
+
+
+def _machine(notes):
+    """'x86_64, 2 cores' from a benchmark's header comment '... (x86_64, 2 cores, Python ...)'."""
+    for note in notes:
+        m = re.search(r"\(([^,()]+), (\d+) cores?", note)
+        if m:
+            return f"{m.group(1)}, {m.group(2)} cores".replace("_", r"\_")
+    raise ValueError("no machine description in the header comments")
+
+
+def _date(notes):
+    for note in notes:
+        m = re.search(r"\b(\d{4}-\d{2}-\d{2})\b", note)
+        if m:
+            return m.group(1)
+    raise ValueError("no date in the header comments")
+
+
+# ------------------------------------------------------------------------------------------
+# sections: each is (inputs, macro names, function returning {name: LaTeX text})
+# ------------------------------------------------------------------------------------------
+def optics(dirs):
+    notes, rows = read_commented_csv(dirs["derived"] / "optics_speed.csv")
+    sweep = [r for r in rows if r["case"] == "sweep"]
+
+    def pick(rows_, test):
+        found = [r for r in rows_ if test(r["implementation"])]
+        if len(found) != 1:
+            raise ValueError(f"expected one matching row, found {len(found)}")
+        return found[0]
+
+    impl = {
+        "Ours": pick(sweep, lambda s: s.startswith("bubbleoptics.")),
+        "Colour": pick(sweep, lambda s: "thin_film_tmm" in s),
+        "Numpy": pick(sweep, lambda s: "NumPy" in s),
+        "Tmm": pick(sweep, lambda s: s.startswith("tmm.")),
+    }
+    ours = impl["Ours"]
+    points = float(ours["median_seconds"]) / (float(ours["ns_per_evaluation"]) * 1e-9)
+    out = {
+        "OpticsMachine": _machine(notes),
+        "OpticsDate": _date(notes),
+        "SweepPoints": _group(str(int(round(points, -3)))),
+    }
+    for key, r in impl.items():
+        out[f"SweepMs{key}"] = significant(1e3 * float(r["median_seconds"]), 2)
+        out[f"Ns{key}"] = significant(float(r["ns_per_evaluation"]), 2 if key != "Colour" else 3)
+        if key != "Ours":
+            out[f"Speedup{key}"] = significant(float(r["ratio_to_bubbleoptics"]), 3 if key == "Colour" else 2)
+            out[f"Dev{key}"] = scientific(float(r["max_abs_deviation_from_bubbleoptics"]), 2)
+    m = re.search(r"colour-science (\d+(?:\.\d+)+)", impl["Colour"]["implementation"])
+    out["ColourVersion"] = m.group(1) if m else NA
+    m = re.search(r"(\d+) points", impl["Tmm"]["implementation"])
+    out["TmmSampled"] = m.group(1) if m else NA
+    xyz = [r for r in rows if r["case"].startswith("spectrum_to_XYZ")]
+    xyz_ours = pick(xyz, lambda s: s.startswith("bubbleoptics."))
+    xyz_colour = pick(xyz, lambda s: s.startswith("colour-science"))
+    out["XYZOursUs"] = significant(1e6 * float(xyz_ours["median_seconds"]), 2)
+    out["XYZColourUs"] = significant(1e6 * float(xyz_colour["median_seconds"]), 3)
+    out["SpeedupXYZ"] = significant(float(xyz_colour["ratio_to_bubbleoptics"]), 3)
+    out["XYZDev"] = scientific(float(xyz_colour["max_abs_deviation_from_bubbleoptics"]), 1)
+    m = re.search(r"\((\d+) samples\)", xyz_ours["case"])
+    out["XYZSamples"] = m.group(1) if m else NA
+    return out
+
+
+OPTICS_MACROS = (
+    ["OpticsMachine", "OpticsDate", "SweepPoints"]
+    + [f"SweepMs{k}" for k in ("Ours", "Colour", "Numpy", "Tmm")]
+    + [f"Ns{k}" for k in ("Ours", "Colour", "Numpy", "Tmm")]
+    + [f"Speedup{k}" for k in ("Colour", "Numpy", "Tmm")]
+    + [f"Dev{k}" for k in ("Colour", "Numpy", "Tmm")]
+    + ["ColourVersion", "TmmSampled", "XYZOursUs", "XYZColourUs", "SpeedupXYZ", "XYZDev", "XYZSamples"]
+)
+
+WORDS = {1: "One", 2: "Two", 3: "Three"}
+
+
+def seed(dirs):
+    from tracer.study import compare_fits, fit_affine_exponential, fit_exponential, fit_polynomial, \
+        holdout_errors, load_seed_table
+
+    table = load_seed_table(dirs["data"] / "seed_table_4_1.csv")
+    depth = table["depth"]
+    out = {}
+    m = re.search(r"on an? (.+?) \(", " ".join(table["notes"]))
+    out["SeedMachine"] = m.group(1) if m else NA
+    branch, delta_quartic, delta_exp, hold = [], [], [], {"Quartic": [], "Affine": [], "Exp": []}
+    rms_affine, best = [], set()
+    fitters = {
+        "Quartic": lambda d, t, relative: fit_polynomial(d, t, 4, relative=relative),
+        "Affine": fit_affine_exponential,
+        "Exp": fit_exponential,
+    }
+    for nb, word in WORDS.items():
+        t = table["seconds"][nb]
+        out[f"SeedDepthOne{word}"] = f"{t[0]:.2f}"  # as transcribed (two decimals)
+        out[f"SeedDepthTen{word}"] = _group(f"{t[-1]:.2f}".split(".")[0]) + "." + f"{t[-1]:.2f}".split(".")[1]
+        out[f"SeedGrowth{word}"] = significant(t[-1] / t[0], 2)
+        comparison = compare_fits(depth, t)
+        best.add(comparison.best)
+        rows = {r["model"]: r for r in comparison.rows}
+        affine = rows["affine exponential"]["fit"]
+        out[f"SeedBranch{word}"] = significant(affine.params["b"], 3)
+        branch.append(affine.params["b"])
+        rms_affine.append(affine.rms_relative)
+        delta_quartic.append(rows["polynomial, degree 4"]["delta"])
+        delta_exp.append(rows["exponential"]["delta"])
+        for key, fitter in fitters.items():
+            _, err = holdout_errors(fitter, depth, t, 7, relative=True)
+            hold[key].append(abs(err[-1]))
+    out["SeedBestLaw"] = ", ".join(sorted(best)) if best else NA
+    out["SeedBestIsAffine"] = "1" if best == {"affine exponential"} else "0"
+    out["SeedBranchMin"] = significant(min(branch), 3)
+    out["SeedBranchMax"] = significant(max(branch), 3)
+    out["SeedRmsAffineMax"] = significant(100 * max(rms_affine), 2)
+    out["SeedDeltaQuarticMin"] = significant(min(delta_quartic), 2)
+    out["SeedDeltaExpMin"] = significant(min(delta_exp), 2)
+    for key, errs in hold.items():
+        out[f"SeedHoldout{key}Max"] = significant(100 * max(errs), 2)
+    return out
+
+
+SEED_MACROS = (
+    ["SeedMachine", "SeedBestLaw", "SeedBestIsAffine", "SeedBranchMin", "SeedBranchMax", "SeedRmsAffineMax",
+     "SeedDeltaQuarticMin", "SeedDeltaExpMin", "SeedHoldoutQuarticMax", "SeedHoldoutAffineMax",
+     "SeedHoldoutExpMax"]
+    + [f"Seed{what}{w}" for what in ("DepthOne", "DepthTen", "Growth", "Branch") for w in WORDS.values()]
+)
+
+
+def ours(dirs):
+    notes, rows = read_commented_csv(dirs["derived"] / "seed_table.csv")
+    main = [r for r in rows if r["mode"] in ("pruned", "exhaustive")]
+    extra = [r for r in rows if r["mode"] not in ("pruned", "exhaustive")]
+    if not main:
+        raise ValueError("no pruned or exhaustive rows")
+
+    def get(nb, mode, depth, column="seconds_median"):
+        for r in main:
+            if int(r["bubbles"]) == nb and r["mode"] == mode and int(r["depth"]) == depth:
+                return float(r[column])
+        raise ValueError(f"no row for {nb} bubbles, {mode}, depth {depth}")
+
+    out = {"OursMachine": _machine(notes), "OursDate": _date(notes)}
+    out["OursWidth"] = str(int(float(main[0]["width"])))
+    out["OursHeight"] = str(int(float(main[0]["height"])))
+    out["OursCameraRays"] = _group(str(int(float(main[0]["rays_camera"]))))
+    modes = ("pruned", "exhaustive")
+    d1 = [get(nb, m, 1) for nb in WORDS for m in modes]
+    d10 = [get(nb, m, 10) for nb in WORDS for m in modes]
+    s1 = [get(nb, m, 1, "speedup_vs_seed") for nb in WORDS for m in modes]
+    s10 = [get(nb, m, 10, "speedup_vs_seed") for nb in WORDS for m in modes]
+    out["OursDepthOneMin"], out["OursDepthOneMax"] = significant(min(d1), 2), significant(max(d1), 2)
+    out["OursDepthTenMin"], out["OursDepthTenMax"] = significant(min(d10), 2), significant(max(d10), 2)
+    out["SpeedupDepthOneMin"], out["SpeedupDepthOneMax"] = significant(min(s1), 2), significant(max(s1), 2)
+    out["SpeedupDepthTenMin"], out["SpeedupDepthTenMax"] = significant(min(s10), 2), significant(max(s10), 2)
+    growth = [get(nb, m, 10) / get(nb, m, 1) for nb in WORDS for m in modes]
+    out["OursGrowthMin"], out["OursGrowthMax"] = significant(min(growth), 2), significant(max(growth), 2)
+    for nb, word in WORDS.items():
+        for mode in modes:
+            m = mode.capitalize()
+            rays = get(nb, mode, 10, "rays_total") / get(nb, mode, 1, "rays_total")
+            out[f"RaysGrowth{m}{word}"] = significant(rays, 3)
+        saved = 1 - get(nb, "pruned", 10, "rays_total") / get(nb, "exhaustive", 10, "rays_total")
+        out[f"PrunedSaved{word}"] = significant(100 * saved, 2)
+    out["OursThreeTenPruned"] = significant(get(3, "pruned", 10), 2)
+    out["OursThreeTenExhaustive"] = significant(get(3, "exhaustive", 10), 2)
+    repeats = max(len(r["seconds_runs"].split()) for r in main)
+    out["OursRepeats"] = str(repeats)
+    fresh = [r for r in extra if "fresh" in r["mode"]]
+    out["FreshProcessSeconds"] = significant(float(fresh[0]["seconds_median"]), 2) if fresh else NA
+    return out
+
+
+OURS_MACROS = (
+    ["OursMachine", "OursDate", "OursWidth", "OursHeight", "OursCameraRays", "OursDepthOneMin", "OursDepthOneMax",
+     "OursDepthTenMin", "OursDepthTenMax", "SpeedupDepthOneMin", "SpeedupDepthOneMax", "SpeedupDepthTenMin",
+     "SpeedupDepthTenMax", "OursGrowthMin", "OursGrowthMax", "OursThreeTenPruned", "OursThreeTenExhaustive",
+     "OursRepeats", "FreshProcessSeconds"]
+    + [f"RaysGrowth{m}{w}" for m in ("Pruned", "Exhaustive") for w in WORDS.values()]
+    + [f"PrunedSaved{w}" for w in WORDS.values()]
+)
+
+
+def _float(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def grazing(dirs):
+    _, rows = read_commented_csv(dirs["derived"] / "stability_grazing.csv")
+
+    def worst(method, column, u_max=math.inf, positive_ref=None):
+        values = []
+        for r in rows:
+            if r["method"] != method or r["polarization"] != "unpolarized" or _float(r["u"]) > u_max + 1e-9:
+                continue
+            if positive_ref and not _float(r[positive_ref]) > 0:
+                continue
+            v = _float(r[column])
+            if math.isfinite(v):
+                values.append(v)
+        if not values:
+            raise ValueError(f"no finite {column} for {method}")
+        return max(values)
+
+    u_max = max(_float(r["u"]) for r in rows)
+    out = {"GrazingUMax": significant(u_max, 1)}
+    out["GrazingFilms"] = str(len({r["film"] for r in rows}))
+    out["GrazingOursRelT"] = scientific(worst("bubbleoptics", "rel_err_T", positive_ref="T_ref"), 2)
+    out["GrazingOursAbsR"] = scientific(worst("bubbleoptics", "abs_err_R"), 2)
+    for method, key in (("naive", "Naive"), ("tmm", "Tmm")):
+        out[f"Grazing{key}RelTFour"] = scientific(worst(method, "rel_err_T", 4.0, "T_ref"), 1)
+        out[f"Grazing{key}RelTSix"] = scientific(worst(method, "rel_err_T", 6.0, "T_ref"), 1)
+        out[f"Grazing{key}RelTAll"] = _sci_or_plain(worst(method, "rel_err_T", positive_ref="T_ref"), 2)
+    return out
+
+
+GRAZING_MACROS = ["GrazingUMax", "GrazingFilms", "GrazingOursRelT", "GrazingOursAbsR"] + [
+    f"Grazing{k}RelT{u}" for k in ("Naive", "Tmm") for u in ("Four", "Six", "All")
+]
+
+BANDS = {4: "Four", 8: "Eight", 16: "Sixteen", 32: "ThirtyTwo", 81: "EightyOne"}
+
+
+def aliasing(dirs):
+    _, rows = read_commented_csv(dirs["derived"] / "stability_aliasing.csv")
+    out = {}
+    thick = [_float(r["thickness_nm"]) for r in rows]
+    out["AliasMaxThicknessUm"] = significant(max(thick) / 1000, 2)
+    for n, word in BANDS.items():
+        sel = [r for r in rows if r["method"] == "point" and int(float(r["n_bands"])) == n]
+        if not sel:
+            out[f"AliasOnset{word}"] = out[f"AliasPredicted{word}"] = out[f"AliasMaxTwoUm{word}"] = NA
+            continue
+        out[f"AliasOnset{word}"] = significant(_float(sel[0]["onset_measured_nm"]) / 1000, 2)
+        out[f"AliasPredicted{word}"] = significant(_float(sel[0]["onset_pred_400_nm"]) / 1000, 2)
+        below = [_float(r["dE00"]) for r in sel if _float(r["thickness_nm"]) < 2000]
+        out[f"AliasMaxTwoUm{word}"] = significant(max(below), 2) if below else NA
+        out[f"AliasMaxAll{word}"] = significant(max(_float(r["dE00"]) for r in sel), 2)
+    any_band = False
+    for n, word in BANDS.items():
+        band = [r for r in rows if r["method"] == "bandlimited" and int(float(r["n_bands"])) == n]
+        any_band = any_band or bool(band)
+        out[f"BandlimitedMax{word}"] = significant(max(_float(r["dE00"]) for r in band), 2) if band else NA
+    out["BandlimitedAvailable"] = "1" if any_band else "0"
+    return out
+
+
+ALIASING_MACROS = (
+    ["AliasMaxThicknessUm", "BandlimitedAvailable"]
+    + [f"Alias{what}{w}" for what in ("Onset", "Predicted", "MaxTwoUm", "MaxAll") for w in BANDS.values()]
+    + [f"BandlimitedMax{w}" for w in BANDS.values()]
+)
+
+
+def physics(dirs):
+    import numpy as np
+
+    import bubbleoptics as bo
+
+    out = {}
+    wl = np.arange(380.0, 781.0, 5.0)
+    d = np.linspace(0.0, 2000.0, 2001)[:, None]
+    for deg, word in ((0, "Normal"), (60, "Sixty"), (75, "SeventyFive")):
+        theta = np.deg2rad(deg)
+        R = bo.film_reflectance(wl, d, theta)
+        R2 = bo.two_beam_reflectance(wl, d, theta)
+        err = np.abs(R2 - R)
+        out[f"TwoBeamErr{word}"] = significant(err.max(), 2)
+        out[f"TwoBeamPeak{word}"] = significant(R.max(), 2)
+        out[f"TwoBeamRel{word}"] = significant(100 * err.max() / R.max(), 2)
+    theta = 1.2
+    out["TwoBeamExampleDeg"] = significant(math.degrees(theta), 3)
+    out["TwoBeamExampleExact"] = f"{float(bo.film_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
+    out["TwoBeamExampleSeed"] = f"{float(bo.two_beam_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
+    n = bo.water_refractive_index(np.array([400.0, 550.0, 700.0]))
+    for value, word in zip(n, ("FourHundred", "FiveFifty", "SevenHundred")):
+        out[f"WaterIndex{word}"] = f"{float(value):.4f}"
+    r01 = ((n[1] - 1) / (n[1] + 1)) ** 2
+    out["WaterRNormal"] = significant(float(r01), 2)
+    return out
+
+
+PHYSICS_MACROS = (
+    [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
+    + ["TwoBeamExampleDeg", "TwoBeamExampleExact", "TwoBeamExampleSeed", "WaterRNormal"]
+    + [f"WaterIndex{w}" for w in ("FourHundred", "FiveFifty", "SevenHundred")]
+)
+
+_NUM = r"([0-9][0-9.]*(?:e[-+]?[0-9]+)?)"
+
+
+def documented(dirs):
+    """Tolerances stated (and enforced) by the repository, read from the sentences stating them."""
+    root = dirs["root"]
+    readme = (root / "README.md").read_text(encoding="utf-8")
+    out = {}
+    m = re.search(rf"within \*\*{_NUM} absolute and {_NUM} relative\*\*", readme)
+    if not m:
+        raise ValueError("README.md: the accuracy sentence ('within **A absolute and B relative**') is gone")
+    out["AccBarAbs"], out["AccBarRel"] = scientific(float(m.group(1)), 1), scientific(float(m.group(2)), 1)
+    m = re.search(rf"measured worst: {_NUM} and {_NUM}", readme)
+    if not m:
+        raise ValueError("README.md: the sentence 'measured worst: A and B' is gone")
+    out["AccWorstAbs"], out["AccWorstRel"] = scientific(float(m.group(1)), 1), scientific(float(m.group(2)), 1)
+    tests = root / "tests"
+    patterns = {
+        "TmmTol": ("test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
+        "ColourXYZTol": ("test_colorimetry.py", rf"/ 100 to {_NUM}"),
+        "FilmColourTol": ("test_colorimetry.py", rf"film_color within {_NUM} per channel"),
+        "HypothesisExamples": ("conftest.py", r"max_examples=([0-9]+)"),
+    }
+    for name, (file, pattern) in patterns.items():
+        text = (tests / file).read_text(encoding="utf-8")
+        m = re.search(pattern, text)
+        if not m:
+            raise ValueError(f"tests/{file}: no match for {pattern!r}")
+        value = float(m.group(1))
+        out[name] = str(int(value)) if name == "HypothesisExamples" else _sci_or_plain(value, 1)
+    return out
+
+
+DOCUMENTED_MACROS = ["AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
+                     "FilmColourTol", "HypothesisExamples"]
+
+
+def defaults(dirs):
+    import tracer
+
+    params = inspect.signature(tracer.render).parameters
+    return {
+        "DefaultBands": str(params["spectral_samples"].default),
+        "DefaultThreshold": scientific(params["threshold"].default, 1),
+        "DefaultDepth": str(params["depth"].default),
+    }
+
+
+DEFAULTS_MACROS = ["DefaultBands", "DefaultThreshold", "DefaultDepth"]
+
+#: name -> (inputs (relative to the data folders, for the warning), function, macro names)
+SECTIONS = {
+    "optics": (["derived/optics_speed.csv"], optics, OPTICS_MACROS),
+    "seed": (["data/seed_table_4_1.csv"], seed, SEED_MACROS),
+    "ours": (["derived/seed_table.csv"], ours, OURS_MACROS),
+    "grazing": (["derived/stability_grazing.csv"], grazing, GRAZING_MACROS),
+    "aliasing": (["derived/stability_aliasing.csv"], aliasing, ALIASING_MACROS),
+    "physics": (["bubbleoptics (computed)"], physics, PHYSICS_MACROS),
+    "documented": (["README.md", "tests/"], documented, DOCUMENTED_MACROS),
+    "defaults": (["tracer.render (signature)"], defaults, DEFAULTS_MACROS),
+}
+
+_NAME = re.compile(r"^[A-Za-z]+$")
+
+#: Flags the paper tests with \ifnum: when their section fails they are 0, never n/a.
+FLAGS = {"BandlimitedAvailable": "0", "SeedBestIsAffine": "0"}
+
+
+def build(dirs):
+    """``(macros, warnings)``: {name: (LaTeX text, section)} for every declared macro, and messages."""
+    macros, warnings_ = {}, []
+    for section, (inputs, function, names) in SECTIONS.items():
+        try:
+            values = function(dirs)
+        except Exception as exc:  # noqa: BLE001 - any failure of the data becomes n/a, by design
+            values = {}
+            warnings_.append(f"{section} ({', '.join(inputs)}): {type(exc).__name__}: {exc}; its numbers are n/a")
+        failed = not values
+        unknown = set(values) - set(names)
+        if unknown:
+            raise RuntimeError(f"section {section} defines undeclared macros {sorted(unknown)}")
+        for name in names:
+            if not _NAME.match(name):
+                raise RuntimeError(f"macro name {name!r} is not a TeX control word (letters only)")
+            if name in macros:
+                raise RuntimeError(f"macro {name} declared twice")
+            text = values.get(name, FLAGS.get(name, NA))
+            if text == NA and not failed and not (name.startswith("Bandlimited") and values.get(
+                    "BandlimitedAvailable") == "0"):
+                warnings_.append(f"{section}: {name} is n/a")
+            macros[name] = (text, section)
+    return macros, warnings_
+
+
+def render(macros):
+    lines = [
+        "% Generated by paper/scripts/make_numbers.py from data/: do not edit (make paper rewrites it).",
+        "% A number shown as n/a in the PDF means its input was missing; see the warnings of make_numbers.",
+        r"\providecommand{\NumberNA}{\textbf{n/a}}",
+    ]
+    section = None
+    for name, (text, sec) in macros.items():
+        if sec != section:
+            lines.append(f"% --- {sec}: {', '.join(SECTIONS[sec][0])}")
+            section = sec
+        lines.append(rf"\newcommand{{\{name}}}{{{text}}}")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=OUT, help="the file to write (default paper/numbers.tex)")
+    parser.add_argument("--data", type=Path, default=DATA, help="the data folder (default data/)")
+    parser.add_argument("--derived", type=Path, default=None, help="derived data (default DATA/derived)")
+    args = parser.parse_args(argv)
+    dirs = {"root": ROOT, "data": args.data, "derived": args.derived or args.data / "derived"}
+    macros, warnings_ = build(dirs)
+    for message in warnings_:
+        print(f"make_numbers: warning: {message}", file=sys.stderr)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = args.out.with_name(f".{args.out.name}.tmp")
+    tmp.write_text(render(macros), encoding="utf-8")
+    os.replace(tmp, args.out)
+    missing = sum(text == NA for text, _ in macros.values())
+    print(f"wrote {args.out} ({len(macros)} macros, {missing} n/a)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,176 @@
+"""The paper builds from the repository: its numbers from data/, and (where LaTeX is installed) its PDF.
+
+* ``paper/scripts/make_numbers.py`` writes ``numbers.tex`` with every macro the paper uses,
+  defined from the CSVs that are present (checked against the CSV itself for a few), and prints
+  "n/a" with a warning, never a traceback, for inputs that are missing.
+* The figures (``make_figures.py --quick``) and the seed's table (``table_seed.py``) are rebuilt
+  into a temporary copy of ``paper/`` through ``BUBBLEOPTICS_FIGURES_DIR``: every ``fig_*.py``
+  must write its PDF and PNG.
+* With ``latexmk`` on the PATH that copy is built with ``latexmk -pdf``: the PDF must exist,
+  have more than three pages, and resolve every citation and reference.  Without LaTeX this test
+  is skipped (the Debian packages are named in ``paper/Makefile``).
+
+Nothing is written into the repository.
+"""
+
+import csv
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.api
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "paper"
+SCRIPTS = PAPER / "scripts"
+MAKE_NUMBERS = SCRIPTS / "make_numbers.py"
+DERIVED = ROOT / "data" / "derived"
+
+#: Control words of paper.tex that start with a capital and are not numbers.tex macros: LaTeX's
+#: own (section sign, Greek capitals, ...) and the paper's (\\R, \\T for reflectance, transmittance).
+NOT_NUMBERS = {"IfFileExists", "PackageError", "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
+               "AE", "OE", "TeX", "LaTeX", "Huge", "LARGE", "Large", "Delta", "Gamma", "Lambda", "Omega", "Phi",
+               "Pi", "Psi", "Sigma", "Theta", "Upsilon", "Xi"}
+
+
+def run(args, timeout, **kwargs):
+    return subprocess.run([sys.executable, *map(str, args)], capture_output=True, text=True, timeout=timeout,
+                          **kwargs)
+
+
+def macros(path):
+    """{name: text} of the \\newcommand lines of a numbers.tex."""
+    text = Path(path).read_text(encoding="utf-8")
+    return dict(re.findall(r"^\\newcommand\{\\([A-Za-z]+)\}\{(.*)\}$", text, flags=re.MULTILINE))
+
+
+def declared_names():
+    """Every macro make_numbers.py declares, from its SECTIONS table (imported, not run)."""
+    sys.path.insert(0, str(SCRIPTS))
+    try:
+        import make_numbers
+    finally:
+        sys.path.remove(str(SCRIPTS))
+    return [name for _, _, names in make_numbers.SECTIONS.values() for name in names]
+
+
+def number(text):
+    """The float of a plain-decimal macro value ('55\\,000' -> 55000.0)."""
+    return float(text.replace(r"\,", ""))
+
+
+@pytest.fixture(scope="module")
+def numbers(tmp_path_factory):
+    out = tmp_path_factory.mktemp("numbers") / "numbers.tex"
+    result = run([MAKE_NUMBERS, "--out", out], timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    return macros(out)
+
+
+def test_every_declared_macro_is_written(numbers):
+    names = declared_names()
+    assert len(names) == len(set(names))
+    assert sorted(numbers) == sorted(names)
+    assert all(re.fullmatch(r"[A-Za-z]+", name) for name in names)
+
+
+def test_every_number_in_the_paper_is_a_macro(numbers):
+    used = set(re.findall(r"\\([A-Z][A-Za-z]*)", (PAPER / "paper.tex").read_text(encoding="utf-8")))
+    missing = sorted(used - NOT_NUMBERS - set(numbers))
+    assert not missing, f"paper.tex uses macros that numbers.tex does not define: {missing}"
+
+
+@pytest.mark.skipif(not (DERIVED / "optics_speed.csv").exists(), reason="no data/derived/optics_speed.csv")
+def test_optics_numbers_come_from_the_csv(numbers):
+    lines = [ln for ln in (DERIVED / "optics_speed.csv").read_text().splitlines() if not ln.startswith("#")]
+    rows = list(csv.DictReader(lines))
+    colour = next(r for r in rows if "thin_film_tmm" in r["implementation"])
+    ours = next(r for r in rows if r["case"] == "sweep" and r["implementation"].startswith("bubbleoptics"))
+    assert number(numbers["SpeedupColour"]) == pytest.approx(float(colour["ratio_to_bubbleoptics"]), rel=0.01)
+    assert number(numbers["NsOurs"]) == pytest.approx(float(ours["ns_per_evaluation"]), rel=0.05)
+    assert "NumberNA" not in "".join(v for k, v in numbers.items() if k.startswith(("Sweep", "Ns", "Speedup")))
+
+
+@pytest.mark.skipif(not (DERIVED / "seed_table.csv").exists(), reason="no data/derived/seed_table.csv")
+def test_seed_table_numbers_come_from_the_csvs(numbers):
+    seed = [ln for ln in (ROOT / "data" / "seed_table_4_1.csv").read_text().splitlines() if not ln.startswith("#")]
+    rows = list(csv.DictReader(seed))
+    growth = float(rows[-1]["one_bubble"]) / float(rows[0]["one_bubble"])
+    assert number(numbers["SeedGrowthOne"]) == pytest.approx(growth, rel=0.01)
+    assert numbers["SeedBestIsAffine"] in ("0", "1")
+    for name in ("OursDepthOneMin", "OursDepthTenMax", "SpeedupDepthTenMax", "RaysGrowthExhaustiveOne"):
+        assert number(numbers[name]) > 0
+
+
+def test_missing_inputs_give_na_and_a_warning_not_a_crash(tmp_path):
+    out = tmp_path / "numbers.tex"
+    empty = tmp_path / "no-data"
+    empty.mkdir()
+    result = run([MAKE_NUMBERS, "--out", out, "--data", empty], timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    assert "warning" in result.stderr and "optics_speed.csv" in result.stderr
+    written = macros(out)
+    assert sorted(written) == sorted(declared_names())
+    for name in ("SpeedupColour", "SeedGrowthOne", "OursDepthOneMin", "GrazingOursRelT", "AliasOnsetSixteen"):
+        assert written[name] == r"\NumberNA{}", name
+    assert r"\providecommand{\NumberNA}" in out.read_text()
+
+
+def _pages(pdf, log):
+    if shutil.which("pdfinfo"):
+        info = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, timeout=30).stdout
+        m = re.search(r"^Pages:\s+(\d+)", info, flags=re.MULTILINE)
+        if m:
+            return int(m.group(1))
+    m = re.search(r"Output written on \S+ \((\d+) pages?", log)
+    if m:
+        return int(m.group(1))
+    return len(re.findall(rb"/Type\s*/Page\b", pdf.read_bytes()))
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """A copy of paper/ with its figures (quick mode), the seed's table and numbers.tex, all
+    written by the repository's scripts into a temporary folder (BUBBLEOPTICS_FIGURES_DIR)."""
+    build = tmp_path_factory.mktemp("paper")
+    for name in ("paper.tex", "references.bib"):
+        shutil.copy(PAPER / name, build / name)
+    env = dict(os.environ, BUBBLEOPTICS_FIGURES_DIR=str(build / "figures"), MPLBACKEND="Agg")
+    if (SCRIPTS / "make_figures.py").exists():
+        result = run([SCRIPTS / "make_figures.py", "--quick"], timeout=90, env=env)
+        assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    if (SCRIPTS / "table_seed.py").exists():
+        result = run([SCRIPTS / "table_seed.py"], timeout=60, env=env)
+        assert result.returncode == 0, result.stderr[-2000:]
+    result = run([MAKE_NUMBERS, "--out", build / "numbers.tex"], timeout=120)
+    assert result.returncode == 0, result.stderr[-2000:]
+    return build
+
+
+def test_figures_and_table_build_in_quick_mode(built):
+    """Every fig_*.py writes its PDF and PNG; table_seed.py writes a booktabs tabular."""
+    for script in sorted(SCRIPTS.glob("fig_*.py")):
+        for suffix in (".pdf", ".png"):
+            assert (built / "figures" / f"{script.stem}{suffix}").stat().st_size > 0, script.name
+    table = (built / "figures" / "table_seed.tex").read_text(encoding="utf-8")
+    assert table.count(r"\\") >= 13 and r"\toprule" in table and r"\bottomrule" in table
+
+
+@pytest.mark.skipif(shutil.which("latexmk") is None, reason="LaTeX not installed")
+def test_paper_pdf_builds(built):
+    latex = subprocess.run(["latexmk", "-pdf", "-interaction=nonstopmode", "-halt-on-error", "paper.tex"],
+                           cwd=built, capture_output=True, text=True, timeout=120)
+    log = (built / "paper.log").read_text(errors="replace") if (built / "paper.log").exists() else ""
+    assert latex.returncode == 0, latex.stdout[-3000:] + log[-3000:]
+    pdf = built / "paper.pdf"
+    assert pdf.exists()
+    assert _pages(pdf, log) > 3
+    assert not re.search(r"Citation `[^']*' .*undefined", log), "unresolved citation"
+    assert "There were undefined references" not in log
