@@ -270,3 +270,22 @@ def test_light_exactly_on_a_surface_makes_no_nan():
     scene.camera = Camera(position=(sph.center[0], sph.center[1], 4.0), look_at=sph.center, fov_deg=20)
     img = tracer.render(scene, width=33, height=33, depth=4, progress=False)
     assert np.isfinite(img).all()
+
+
+@pytest.mark.analytic
+@pytest.mark.parametrize("make_scene", ["builtin", "full"])
+def test_adding_a_light_never_darkens_a_pixel(make_scene):
+    """Light adds: every term a point light contributes (diffuse, Phong, a bubble's R-weighted
+    highlight) is non-negative and nothing else depends on it, so the image with an extra light
+    is at least as bright, per spectral band, everywhere.  (Regression: a highlight's shadow ray
+    through a bubble once overwrote the hit's own R and T, darkening a disc around the
+    highlight.)  Checked per band through luminance, a non-negative sum of bands."""
+    base = tracer.default_scene() if make_scene == "builtin" else full_scene()
+    base.lights = []
+    lit = tracer.default_scene() if make_scene == "builtin" else full_scene()
+    lit.lights = [PointLight((2.0, 3.0, 4.0), 1.5), PointLight((0.0, 0.5, 0.2), 0.7)]
+    kw = dict(width=40, height=40, depth=6, threshold=0.0, spectral=True, progress=False)
+    y0 = luminance(tracer.render(base, **kw))
+    y1 = luminance(tracer.render(lit, **kw))
+    assert np.all(y1 >= y0 - 1e-12), (np.min(y1 - y0), np.argwhere(y1 < y0 - 1e-12)[:5])
+    assert np.any(y1 > y0 + 1e-3)

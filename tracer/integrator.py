@@ -132,7 +132,8 @@ def fresnel_unpolarized(n1, n2, cos_i):
 def shadow_transmittance(p, lpos, trans, sc, counts):
     """Transmittance (per channel, into *trans*) from p to the light at *lpos*; False if zero."""
     (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-     mat_color, mat_coef, wl, eps, bvh_stack, R, T, cache_cos, cache_R, cache_T) = sc
+     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T) = sc
+    # R_sh, T_sh: this function's own scratch; R, T hold the caller's hit and must survive
     dx = lpos[0] - p[0]
     dy = lpos[1] - p[1]
     dz = lpos[2] - p[2]
@@ -152,9 +153,9 @@ def shadow_transmittance(p, lpos, trans, sc, counts):
         q, n = surface(kind, idx, p, d, t, spheres, bubbles, tri_info)
         cos_i = abs(d[0] * n[0] + d[1] * n[1] + d[2] * n[2])
         if kind == HIT_BUBBLE:
-            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T)
+            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R_sh, T_sh, cache_cos, cache_R, cache_T)
             for c in range(trans.shape[0]):
-                trans[c] *= T[c]
+                trans[c] *= T_sh[c]
         else:
             m = int(spheres[idx, 4]) if kind == HIT_SPHERE else int(tri_info[idx, 3])
             kt = mat_coef[m, 3]
@@ -237,7 +238,7 @@ def keep_child(w, threshold):
 def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, L, scratch, counts):
     """Add the radiance (per channel) of camera ray (o0, d0) to L."""
     (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-     mat_color, mat_coef, wl, eps, bvh_stack, R, T, cache_cos, cache_R, cache_T) = sc
+     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T) = sc
     env_kind, env_params, env_image, basis = env
     st_o, st_d, st_thr, st_gen, trans, w = scratch
     nc = L.shape[0]
@@ -358,6 +359,8 @@ def render_rows(row0, row1, width, height, spp, seed, depth, threshold, camera, 
         w = np.empty(nc)
         R = np.empty(nc)
         T = np.empty(nc)
+        R_sh = np.empty(nc)
+        T_sh = np.empty(nc)
         L = np.empty(nc)
         bvh_stack = np.empty(64, dtype=np.int64)
         row_counts = np.zeros(N_COUNTS, dtype=np.int64)
@@ -366,7 +369,7 @@ def render_rows(row0, row1, width, height, spp, seed, depth, threshold, camera, 
         cache_R = np.empty((nb, nc))
         cache_T = np.empty((nb, nc))
         sc = (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-              mat_color, mat_coef, wl, eps, bvh_stack, R, T, cache_cos, cache_R, cache_T)
+              mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T)
         env = (env_kind, env_params, env_image, basis)
         scratch = (st_o, st_d, st_thr, st_gen, trans, w)
         o0 = (camera[0], camera[1], camera[2])
