@@ -27,6 +27,8 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(PY) benchmarks/optics_speed.py
 	$(PY) benchmarks/seed_table.py
+	$(PY) benchmarks/bandlimited_colour.py
+	$(PY) benchmarks/stability.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
 paper: $(STAMP)

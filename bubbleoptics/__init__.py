@@ -19,6 +19,7 @@ import numba as _numba
 if "NUMBA_THREADING_LAYER" not in _os.environ:
     _numba.config.THREADING_LAYER = "workqueue"
 
+from .bandlimited import film_color_bandlimited, film_reflectance_band
 from .colorimetry import (
     XYZ_to_display_sRGB,
     band_spectral_weights,
@@ -51,4 +52,6 @@ __all__ = [
     "rgb_reflectance_basis",
     "XYZ_to_display_sRGB",
     "film_color",
+    "film_reflectance_band",
+    "film_color_bandlimited",
 ]

@@ -66,7 +66,7 @@ def _threshold(text):
 
 
 #: Options whose default comes from a TOML scene's [render] table when it has one, else DEFAULTS.
-_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed")
+_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method")
 
 
 def _add_render_options(p):
@@ -78,6 +78,8 @@ def _add_render_options(p):
                    help="prune child rays whose throughput is at most this (0: the seed's exhaustive tree)")
     p.add_argument("--spectral-samples", type=_positive_int,
                    help="wavelength bands for spectral transport (scenes with bubbles)")
+    p.add_argument("--spectral-method", choices=("point", "band"),
+                   help="bubble films at the band centres (point) or averaged over each band (band)")
     p.add_argument("--seed", type=_nonnegative_int, help="random seed for sample positions")
     p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
                    help="replace the environment by this constant linear-RGB colour")
@@ -191,7 +193,8 @@ def _main(argv=None):
         s = _resolve_settings(args, scene)
         image, stats = render_with_stats(
             scene, width=s["width"], height=s["height"], depth=s["depth"], spp=s["spp"], threshold=s["threshold"],
-            spectral_samples=s["spectral_samples"], seed=s["seed"], progress=False if args.quiet else None,
+            spectral_samples=s["spectral_samples"], seed=s["seed"], spectral_method=s["spectral_method"],
+            progress=False if args.quiet else None,
         )
         save_image(image, out, bits=args.bits)
     except SceneError as err:

@@ -28,7 +28,14 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from bubbleoptics.kernels import POL_UNPOLARIZED, film_rt, fresnel_interface, normal_wavevector
+from bubbleoptics.kernels import (
+    POL_UNPOLARIZED,
+    film_band_average,
+    film_rt,
+    film_setup,
+    fresnel_interface,
+    normal_wavevector,
+)
 
 from .environment import environment_rgb
 from .films import film_thickness
@@ -91,14 +98,20 @@ COS_REUSE_TOL = 1e-12
 
 
 @njit(**_JIT)
-def bubble_rt(b, n_out, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T):
+def bubble_rt(b, n_out, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T, band):
     """Fill R, T (per channel) for bubble *b* hit at outward normal *n_out*.
+
+    Point mode: the film at each band centre (:func:`bubbleoptics.kernels.film_rt`).  Band mode
+    (``band[0][0] == 1``): each band's film averaged in closed form over the band
+    (:func:`bubbleoptics.kernels.film_band_average`), with the phase rate 2π q1/λ taken at the
+    band edges (computed once per hit for the C + 1 shared edges).
 
     Skips work a uniform film does not need: inside a sphere every chord meets both of its
     ends at the same angle and reflection keeps it, so the entry hit, the exit hit and every
     inner bounce of a path share one cos(theta) and, for a uniform film, one R(λ), T(λ).
     Each bubble keeps its last (cos, R, T) per thread (*cache_cos* < 0 means empty).
     """
+    band_mode, edges, n_edges, kq_edges = band
     p = bubble_film[b]
     uniform = p[0] == 0.0 and p[5] == 0.0
     nc = R.shape[0]
@@ -108,10 +121,20 @@ def bubble_rt(b, n_out, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache
             T[c] = cache_T[b, c]
         return
     d_nm = film_thickness(p, film_maps, n_out)
-    for c in range(nc):
-        r, t = film_rt(wl[c], d_nm, cos_i, 1.0, bubble_n[b, c] + 0j, 1.0 + 0j, POL_UNPOLARIZED)
-        R[c] = r
-        T[c] = t
+    if band_mode[0] == 1:
+        q0 = max(cos_i, 1e-150)
+        for e in range(nc + 1):
+            kq_edges[e] = 2.0 * math.pi / edges[e] * normal_wavevector(n_edges[b, e] + 0j, 1.0, q0).real
+        for c in range(nc):
+            coef = film_setup(wl[c], cos_i, 1.0, bubble_n[b, c] + 0j, 1.0 + 0j)
+            r, t = film_band_average(coef, kq_edges[c], kq_edges[c + 1], d_nm, POL_UNPOLARIZED)
+            R[c] = r
+            T[c] = t
+    else:
+        for c in range(nc):
+            r, t = film_rt(wl[c], d_nm, cos_i, 1.0, bubble_n[b, c] + 0j, 1.0 + 0j, POL_UNPOLARIZED)
+            R[c] = r
+            T[c] = t
     if uniform:
         cache_cos[b] = cos_i
         for c in range(nc):
@@ -132,7 +155,7 @@ def fresnel_unpolarized(n1, n2, cos_i):
 def shadow_transmittance(p, lpos, trans, sc, counts):
     """Transmittance (per channel, into *trans*) from p to the light at *lpos*; False if zero."""
     (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T) = sc
+     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T, band) = sc
     # R_sh, T_sh: this function's own scratch; R, T hold the caller's hit and must survive
     dx = lpos[0] - p[0]
     dy = lpos[1] - p[1]
@@ -153,7 +176,7 @@ def shadow_transmittance(p, lpos, trans, sc, counts):
         q, n = surface(kind, idx, p, d, t, spheres, bubbles, tri_info)
         cos_i = abs(d[0] * n[0] + d[1] * n[1] + d[2] * n[2])
         if kind == HIT_BUBBLE:
-            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R_sh, T_sh, cache_cos, cache_R, cache_T)
+            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R_sh, T_sh, cache_cos, cache_R, cache_T, band)
             for c in range(trans.shape[0]):
                 trans[c] *= T_sh[c]
         else:
@@ -238,7 +261,7 @@ def keep_child(w, threshold):
 def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, L, scratch, counts):
     """Add the radiance (per channel) of camera ray (o0, d0) to L."""
     (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T) = sc
+     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T, band) = sc
     env_kind, env_params, env_image, basis = env
     st_o, st_d, st_thr, st_gen, trans, w = scratch
     nc = L.shape[0]
@@ -269,7 +292,7 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
         for c in range(nc):
             w[c] = thr[c]
         if kind == HIT_BUBBLE:
-            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T)
+            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T, band)
             shin = bubbles[idx, 4]
             for j in range(lights.shape[0]):
                 lpos = (lights[j, 0], lights[j, 1], lights[j, 2])
@@ -346,7 +369,7 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
 def render_rows(row0, row1, width, height, spp, seed, depth, threshold, camera, to_rgb,
                 spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first,
                 count, mat_color, mat_coef, wl, eps, env_kind, env_params, env_image, basis,
-                lights, light_rad, ambient, image, counts):
+                lights, light_rad, ambient, band_mode, band_edges, bubble_n_edges, image, counts):
     """Render rows [row0, row1) into image[row - row0] (linear sRGB) and counts[row - row0]."""
     nc = basis.shape[0]
     stack_size = 2 * depth + 8
@@ -368,8 +391,10 @@ def render_rows(row0, row1, width, height, spp, seed, depth, threshold, camera, 
         cache_cos = np.full(nb, -1.0)
         cache_R = np.empty((nb, nc))
         cache_T = np.empty((nb, nc))
+        kq_edges = np.empty(nc + 1)
+        band = (band_mode, band_edges, bubble_n_edges, kq_edges)
         sc = (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-              mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T)
+              mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T, band)
         env = (env_kind, env_params, env_image, basis)
         scratch = (st_o, st_d, st_thr, st_gen, trans, w)
         o0 = (camera[0], camera[1], camera[2])

@@ -37,6 +37,9 @@ class Packed:
     spheres: np.ndarray  # (S, 5): centre, radius, material index
     bubbles: np.ndarray  # (B, 5): centre, radius, shininess
     bubble_n: np.ndarray  # (B, C) film index per channel
+    bubble_n_edges: np.ndarray  # (B, C + 1) film index at the band edges (band-averaged films)
+    band_edges: np.ndarray  # (C + 1,) band edges in nm
+    band_mode: int  # 1: bubbles use the band-averaged film (bubbleoptics.kernels.film_band_average)
     bubble_film: np.ndarray  # (B, N_FILM_PARAMS)
     film_maps: np.ndarray  # flat thickness tables
     tris: np.ndarray  # (T, 3, 3) in BVH order
@@ -100,11 +103,22 @@ def _convex_outward(vertices, faces, normals):
     return normals * flip[:, None] if convex else normals
 
 
-def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None):
-    """Pack *scene*; spectral transport if it has bubbles (or *force_spectral* is True)."""
+SPECTRAL_METHODS = ("point", "band")
+
+
+def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_method="point"):
+    """Pack *scene*; spectral transport if it has bubbles (or *force_spectral* is True).
+
+    *spectral_method*: ``"point"`` evaluates each bubble film at the band centres; ``"band"``
+    uses each band's film averaged in closed form over the band
+    (:func:`bubbleoptics.kernels.film_band_average`), which does not alias on thick films.
+    """
+    if spectral_method not in SPECTRAL_METHODS:
+        raise ValueError(f"spectral_method must be one of {SPECTRAL_METHODS} (got {spectral_method!r})")
     spectral = bool(scene.bubbles) if force_spectral is None else bool(force_spectral)
     wl, to_rgb, basis = channel_setup(spectral, spectral_samples)
     nc = basis.shape[0]
+    edges = np.linspace(360.0, 780.0, nc + 1) if spectral else np.zeros(nc + 1)
 
     materials = []
     mat_index = {}
@@ -148,6 +162,7 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None):
     nb = len(scene.bubbles)
     bubbles = np.array([[*b.center, b.radius, b.shininess] for b in scene.bubbles], float).reshape(-1, 5)
     bubble_n = np.empty((nb, nc))
+    bubble_n_edges = np.empty((nb, nc + 1))
     bubble_film = np.zeros((nb, N_FILM_PARAMS))
     maps = []
     map_size = 0
@@ -157,8 +172,10 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None):
             if b.n_film != "water":
                 raise ValueError(f"bubble {b.name!r}: n_film must be a number or 'water' (got {b.n_film!r})")
             bubble_n[i] = water_refractive_index(wl) if spectral else 1.333
+            bubble_n_edges[i] = water_refractive_index(edges) if spectral else 1.333
         else:
             bubble_n[i] = float(b.n_film)
+            bubble_n_edges[i] = float(b.n_film)
         fp = b.film
         if fp.kind not in _FILM_KINDS:
             raise ValueError(f"bubble {b.name!r}: unknown film kind {fp.kind!r}")
@@ -218,6 +235,9 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None):
         spheres=spheres,
         bubbles=bubbles,
         bubble_n=bubble_n,
+        bubble_n_edges=bubble_n_edges,
+        band_edges=edges,
+        band_mode=int(spectral and spectral_method == "band"),
         bubble_film=bubble_film,
         film_maps=film_maps,
         tris=np.ascontiguousarray(bvh.tris),

@@ -22,7 +22,8 @@ __all__ = ["render", "render_with_stats", "RenderStats", "save_image", "DEFAULTS
 #: mid-tones, so pruned branches cannot change a displayed pixel by more than about one step
 #: per pruned branch); 0 traces the seed's exhaustive tree.  ``spectral_samples``: 16 bands.
 #: Both are revisited by the run-time-against-error study (notebooks/04).
-DEFAULTS = dict(width=960, height=960, depth=10, spp=1, threshold=1e-3, spectral_samples=16, seed=0)
+DEFAULTS = dict(width=960, height=960, depth=10, spp=1, threshold=1e-3, spectral_samples=16, seed=0,
+                spectral_method="point")
 
 
 @dataclass
@@ -48,7 +49,8 @@ def _call_rows(packed: Packed, row0, row1, width, height, spp, seed, depth, thre
         packed.tri_info, packed.bvh_bounds, packed.bvh_child, packed.bvh_first, packed.bvh_count,
         packed.mat_color, packed.mat_coef, packed.wavelengths if packed.spectral else np.zeros(3),
         packed.eps, packed.env_kind, packed.env_params, packed.env_image, packed.rgb_basis,
-        packed.lights, packed.light_rad, packed.ambient, out, counts,
+        packed.lights, packed.light_rad, packed.ambient, np.array([packed.band_mode], dtype=np.int64),
+        packed.band_edges, packed.bubble_n_edges, out, counts,
     )
 
 
@@ -70,6 +72,7 @@ def render_with_stats(
     spectral_samples=DEFAULTS["spectral_samples"],
     seed=DEFAULTS["seed"],
     spectral=None,
+    spectral_method=DEFAULTS["spectral_method"],
     progress=None,
 ):
     """Render and return ``(image, RenderStats)``; see :func:`render`."""
@@ -81,7 +84,8 @@ def render_with_stats(
     seed = _check_int("seed", seed, 0)
     if not (threshold >= 0 and np.isfinite(threshold)):
         raise ValueError(f"threshold must be a finite number >= 0 (got {threshold!r})")
-    packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral)
+    packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral,
+                        spectral_method=spectral_method)
     warm_up(packed)
     image = np.zeros((height, width, 3))
     counts = np.zeros((height, N_COUNTS), dtype=np.int64)
@@ -110,7 +114,7 @@ def render_with_stats(
 
 def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=DEFAULTS["spp"],
            threshold=DEFAULTS["threshold"], spectral_samples=DEFAULTS["spectral_samples"],
-           seed=DEFAULTS["seed"], spectral=None, progress=None):
+           seed=DEFAULTS["seed"], spectral=None, spectral_method=DEFAULTS["spectral_method"], progress=None):
     """Render *scene* to an (height, width, 3) float array of linear sRGB radiance.
 
     Parameters
@@ -120,12 +124,14 @@ def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=
     threshold : pruning threshold on a child ray's throughput (0 = exhaustive tree).
     spectral_samples : wavelength bands for spectral transport (used when the scene has bubbles,
         or when ``spectral=True``); ``spectral=False`` forces RGB transport.
+    spectral_method : ``"point"`` (films evaluated at the band centres) or ``"band"`` (each
+        band's film averaged over the band in closed form: no aliasing on thick films).
     seed : random seed; the image depends on it but not on the thread count.
     progress : show a progress bar (default: when stderr is a terminal).
     """
     return render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
                              spectral_samples=spectral_samples, seed=seed, spectral=spectral,
-                             progress=progress)[0]
+                             spectral_method=spectral_method, progress=progress)[0]
 
 
 def _atomic_write(path: Path, write):

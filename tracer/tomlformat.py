@@ -334,6 +334,7 @@ _FILM_KEYS = {
 }
 _RENDER_INT = {"width": 1, "height": 1, "depth": 1, "spp": 1, "spectral_samples": 1, "seed": 0}
 _RENDER_FLOAT = {"threshold": 0.0}
+_RENDER_CHOICE = {"spectral_method": ("point", "band")}
 
 
 def parse_toml_text(text: str, path="<string>") -> Scene:
@@ -457,11 +458,15 @@ def _environment(c: _Ctx, t) -> Environment:
 def _render(c: _Ctx, t) -> dict:
     kp = ("render",)
     c.table(kp, t)
-    c.keys(kp, t, set(_RENDER_INT) | set(_RENDER_FLOAT))
+    c.keys(kp, t, set(_RENDER_INT) | set(_RENDER_FLOAT) | set(_RENDER_CHOICE))
     out = {}
     for key, v in t.items():
         if key in _RENDER_INT:
             out[key] = c.integer(kp + (key,), v, _RENDER_INT[key])
+        elif key in _RENDER_CHOICE:
+            if v not in _RENDER_CHOICE[key]:
+                raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {v!r}")
+            out[key] = v
         else:
             out[key] = c.number(kp + (key,), v, _RENDER_FLOAT[key])
     return out
