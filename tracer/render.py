@@ -47,7 +47,7 @@ def _call_rows(packed: Packed, row0, row1, width, height, spp, seed, depth, thre
         row0, row1, width, height, spp, seed, depth, threshold, packed.camera, packed.to_rgb,
         packed.spheres, packed.bubbles, packed.bubble_n, packed.bubble_film, packed.film_maps, packed.tris,
         packed.tri_info, packed.bvh_bounds, packed.bvh_child, packed.bvh_first, packed.bvh_count,
-        packed.mat_color, packed.mat_coef, packed.wavelengths if packed.spectral else np.zeros(3),
+        packed.mat_color, packed.mat_coef, packed.wavelengths,
         packed.eps, packed.env_kind, packed.env_params, packed.env_image, packed.rgb_basis,
         packed.lights, packed.light_rad, packed.ambient, np.array([packed.band_mode], dtype=np.int64),
         packed.band_edges, packed.bubble_n_edges, out, counts,

@@ -1,0 +1,133 @@
+"""Figure: render time against colour error over the tracer's settings, with the Pareto front.
+
+Run:  python paper/scripts/fig_time_vs_error.py [--quick]
+Reads ``data/derived/time_vs_error.csv`` (written by ``benchmarks/time_vs_error.py``); writes
+``fig_time_vs_error.pdf``/``.png``.
+
+One panel per scene: each setting of the study as a point, render time at 160 x 160
+(compilation excluded, median of three) against its mean CIEDE2000 to the reference (1 nm
+bands, exhaustive tree, 16 samples per pixel) over the interior pixels (away from the edges
+that anti-aliasing changes: the metric the defaults are chosen on).  Marker: the factor swept
+(spectral bands point-sampled or band-averaged, RGB transport, pruning threshold, samples
+per pixel, depth, the combined grid).  Solid line: the Pareto front of those points
+(``tracer.study.pareto_front``); grey dashed line: the front of the same settings by the
+error over all pixels.  Star: the defaults the benchmark ran with; dotted line: the
+reference's time; shaded: the target (mean ΔE00 <= 0.5, at least 20x faster than the
+reference).  Quick mode draws the same figure (it only reads the file).
+"""
+
+import csv
+import math
+import sys
+
+import numpy as np
+
+import paths
+import style
+from tracer.study import pareto_front
+
+CSV = paths.DERIVED / "time_vs_error.csv"
+SCENES = {"builtin": "built-in scene", "bubbles": "six bubbles", "materials": "bubble and spheres"}
+TARGET_ERROR = 0.5
+TARGET_SPEEDUP = 20.0
+#: factor group -> (label, marker, colour index in the style's cycle, filled)
+GROUPS = {
+    "point": ("bands, point", "o", 0, True),
+    "band": ("bands, band-averaged", "D", 5, True),
+    "rgb": ("RGB transport", "X", 1, True),
+    "threshold": ("threshold", "s", 4, True),
+    "spp": ("samples per pixel", "^", 2, True),
+    "depth": ("depth", "v", 3, True),
+    "grid": ("combined", "P", 6, False),
+    "floor": ("1 nm, exhaustive, 1 spp", "h", 6, True),
+}
+
+
+def read_rows(path):
+    if not path.exists():
+        raise SystemExit(f"{path} is missing: run python benchmarks/time_vs_error.py first")
+    lines = [ln for ln in path.read_text(encoding="utf-8").splitlines() if ln.strip() and not ln.startswith("#")]
+    rows = []
+    for r in csv.DictReader(lines):
+        for k in ("seconds", "mean_de00", "interior_mean_de00", "speedup_vs_reference", "is_default",
+                  "spectral_samples", "threshold", "spp", "depth"):
+            r[k] = float(r[k]) if r[k] != "" else math.nan
+        rows.append(r)
+    return rows
+
+
+def group(r):
+    if r["factor"] == "spectral":
+        return "rgb" if r["transport"] == "rgb" else ("band" if r["spectral_method"] == "band" else "point")
+    return r["factor"] if r["factor"] in GROUPS else None
+
+
+def setting(r):
+    return (r["transport"], r["spectral_samples"], r["spectral_method"], r["threshold"], r["spp"], r["depth"])
+
+
+def main(argv=None):
+    paths.parse_args(__doc__.splitlines()[0], argv)
+    rows = read_rows(CSV)
+    fig = style.figure(width=style.COLUMN_WIDTH, height=3.5)
+    axes = fig.subplot_mosaic([["builtin", "bubbles"], ["materials", "legend"]])
+    colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
+    handles = {}
+    for scene, title in SCENES.items():
+        ax = axes[scene]
+        sel = [r for r in rows if r["scene"] == scene]
+        t_ref = next(r["seconds"] for r in sel if r["factor"] == "reference")
+        pts, seen = [], set()
+        for r in sel:  # each setting once (the sweeps share the defaults)
+            if r["factor"] != "reference" and group(r) and setting(r) not in seen:
+                seen.add(setting(r))
+                pts.append(r)
+        t = np.array([r["seconds"] for r in pts])
+        e_int = np.array([r["interior_mean_de00"] for r in pts])
+        e_all = np.array([r["mean_de00"] for r in pts])
+        lo_t, hi_t = 0.6 * t.min(), 1.8 * t_ref
+        lo_e, hi_e = 0.6 * e_int.min(), 1.6 * e_all.max()
+        ax.fill_between([lo_t, t_ref / TARGET_SPEEDUP], lo_e, TARGET_ERROR, color=colors[2], alpha=0.12, lw=0,
+                        zorder=0)
+        for r in pts:
+            label, marker, ci, filled = GROUPS[group(r)]
+            h, = ax.plot(r["seconds"], r["interior_mean_de00"], marker, color=colors[ci], markersize=2.6,
+                         markerfacecolor=colors[ci] if filled else "none", markeredgewidth=0.5, alpha=0.9, zorder=3)
+            handles.setdefault(label, h)
+        front_all = pareto_front(t, e_all)
+        h_all, = ax.step(t[front_all], e_all[front_all], "--", where="post", color="0.55", lw=0.6, zorder=1)
+        front = pareto_front(t, e_int)
+        h_front, = ax.step(t[front], e_int[front], "-", where="post", color="k", lw=0.7, zorder=2)
+        default = next(r for r in sel if r["is_default"] == 1)
+        h_def, = ax.plot(default["seconds"], default["interior_mean_de00"], "*", markersize=7, color="#F0E442",
+                         markeredgecolor="k", markeredgewidth=0.5, zorder=5)
+        ax.axvline(t_ref, color="k", ls=":", lw=0.6)
+        ax.text(t_ref / 1.15, hi_e / 1.3, "reference", rotation=90, ha="right", va="top", fontsize=5.5)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(lo_t, hi_t)
+        ax.set_ylim(lo_e, hi_e)
+        ax.set_title(title, pad=2)
+        ax.set_xlabel("render time (s)", labelpad=1)
+        ax.set_ylabel("mean $\\Delta E_{00}$, interior", labelpad=1)
+        on_front = any(pts[i] is default or setting(pts[i]) == setting(default) for i in front)
+        print(f"{scene}: reference {t_ref:.1f} s; defaults {default['seconds'] * 1e3:.1f} ms, interior mean dE00 "
+              f"{default['interior_mean_de00']:.3f} (all pixels {default['mean_de00']:.3f}), "
+              f"{default['speedup_vs_reference']:.0f}x faster, on the front: {on_front}; front of {len(front)} points")
+    handles["Pareto front"] = h_front
+    handles["front, all pixels"] = h_all
+    handles["defaults"] = h_def
+    from matplotlib.patches import Patch
+
+    handles["target"] = Patch(color=colors[2], alpha=0.12, lw=0)
+    leg = axes["legend"]
+    leg.set_axis_off()
+    leg.legend(handles.values(), handles.keys(), loc="center", fontsize=5.5, handlelength=1.6, borderaxespad=0,
+               labelspacing=0.35)
+    for path in style.savefig(fig, "fig_time_vs_error"):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
