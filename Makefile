@@ -29,6 +29,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/seed_table.py
 	$(PY) benchmarks/bandlimited_colour.py
 	$(PY) benchmarks/stability.py
+	$(PY) benchmarks/time_vs_error.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
 paper: $(STAMP)
