@@ -15,7 +15,9 @@ local terms and pushes its children:
 
 Generation 1 is the camera ray; a child is traced only if its generation is <= ``depth`` and,
 when ``threshold > 0``, the largest channel of its throughput exceeds ``threshold`` (pruning);
-``threshold = 0`` traces every child whose lobe exists, the seed's exhaustive tree.
+likewise a shadow ray is cast only if the light's largest possible contribution through it
+exceeds ``threshold``.  ``threshold = 0`` traces every child whose lobe exists and every
+shadow ray, the seed's exhaustive tree.
 Shadow rays run to each light on the lit side of the surface (none to lights behind it) and
 multiply the transmittance of everything they cross: a bubble's T, glass's kt (1 - F) colour
 (without bending: Whitted shadows have no caustics), zero for opaque surfaces.
@@ -247,6 +249,15 @@ def push_child(st_o, st_d, st_thr, st_gen, sp, o, d, gen, weight, threshold):
 
 
 @njit(**_JIT)
+def max_product(a, b, j):
+    """max over channels of a[c] * b[j, c] (a bound on a light's contribution)."""
+    m = 0.0
+    for c in range(a.shape[0]):
+        m = max(m, a[c] * b[j, c])
+    return m
+
+
+@njit(**_JIT)
 def keep_child(w, threshold):
     """Trace a child whose throughput is *w*? (its lobe exists; pruning when threshold > 0)."""
     m = 0.0
@@ -302,6 +313,10 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
                 spec = rv**shin
                 if spec < 1e-12:
                     continue
+                for c in range(nc):
+                    trans[c] = w[c] * R[c]
+                if threshold > 0.0 and spec * max_product(trans, light_rad, j) <= threshold:
+                    continue  # the highlight can add at most `threshold`: pruned like a branch
                 if shadow_transmittance(p_front, lpos, trans, sc, counts):
                     for c in range(nc):
                         L[c] += w[c] * R[c] * trans[c] * light_rad[j, c] * spec
@@ -330,6 +345,11 @@ def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, 
                 if ndl <= 0.0:
                     continue  # light behind the surface: no shadow ray
                 spec = ks * rv**shin if (ks > 0.0 and rv > 0.0) else 0.0
+                if threshold > 0.0:
+                    for c in range(nc):
+                        trans[c] = w[c] * (kd * ndl * mat_color[m, c] + spec)
+                    if max_product(trans, light_rad, j) <= threshold:
+                        continue  # this light can add at most `threshold` here: pruned
                 if shadow_transmittance(p_front, lpos, trans, sc, counts):
                     for c in range(nc):
                         L[c] += w[c] * light_rad[j, c] * trans[c] * (kd * ndl * mat_color[m, c] + spec)
