@@ -1,0 +1,94 @@
+"""Figure: error against render time, our tracer and Mitsuba 3, on a glass sphere in an environment.
+
+Run:  python paper/scripts/fig_peer.py [--quick]
+Reads ``data/derived/peer_mitsuba.csv`` (written by ``benchmarks/peer_mitsuba.py``, which needs
+the optional ``mitsuba`` package); writes ``fig_peer.pdf``/``.png``.
+
+(a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference, both against seconds per
+256x256 image (median of the runs, compilation excluded), log-log.  Ours: Whitted, exhaustive
+tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
+LLVM variant with the stratified and the independent sampler, scalar variant, 1-1024 spp.  The
+first and last point of each curve are labelled with their samples per pixel.  Dotted grey:
+the difference between our converged image and Mitsuba's (texture filtering), below which
+neither curve can go against the other's reference.  Quick mode draws the same figure (it only
+reads the table).
+"""
+
+import csv
+import sys
+
+import numpy as np
+
+import paths
+import style
+
+PEER = paths.DERIVED / "peer_mitsuba.csv"
+
+#: (renderer, variant, sampler) -> (label, colour index, line style, marker)
+CURVES = {
+    ("ours", "exhaustive", "stratified"): ("ours, exhaustive", 0, "-", "o"),
+    ("ours", "pruned", "stratified"): ("ours, pruned $10^{-3}$", 0, "--", "o"),
+    ("mitsuba", "llvm_ad_rgb", "stratified"): ("Mitsuba LLVM, stratified", 1, "-", "s"),
+    ("mitsuba", "llvm_ad_rgb", "independent"): ("Mitsuba LLVM, independent", 1, ":", "s"),
+    ("mitsuba", "scalar_rgb", "stratified"): ("Mitsuba scalar, stratified", 2, "-", "^"),
+}
+
+
+def read_rows(path):
+    """(comment lines, rows as dicts) of the benchmark's CSV; exits with a message if it is missing."""
+    if not path.exists():
+        raise SystemExit(f"{path} is missing: run python benchmarks/peer_mitsuba.py first "
+                         "(needs pip install mitsuba, and libllvm19 for its LLVM variant)")
+    lines = path.read_text(encoding="utf-8").splitlines()
+    notes = [ln.lstrip("#").strip() for ln in lines if ln.startswith("#")]
+    rows = list(csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")))
+    if not rows:
+        raise SystemExit(f"{path} has no rows: run python benchmarks/peer_mitsuba.py again")
+    return notes, rows
+
+
+def main(argv=None):
+    paths.parse_args(__doc__.splitlines()[0], argv)
+    notes, rows = read_rows(PEER)
+    sweep = [r for r in rows if r["role"] == "sweep"]
+    ours_ref = next((r for r in rows if r["role"] == "reference" and r["renderer"] == "ours"), None)
+
+    fig = style.figure(width=style.PAGE_WIDTH, height=2.6)
+    axes = fig.subplots(1, 2)
+    colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
+    panels = (("rmse", "RMSE (linear RGB)", "(a)"), ("mean_de00", r"mean $\Delta E_{00}$", "(b)"))
+    for ax, (metric, ylabel, tag) in zip(axes, panels):
+        for key, (label, ci, ls, marker) in CURVES.items():
+            curve = sorted((r for r in sweep if (r["renderer"], r["variant"], r["sampler"]) == key),
+                           key=lambda r: int(r["spp"]))
+            if not curve:
+                continue
+            t = np.array([float(r["seconds"]) for r in curve])
+            e = np.array([float(r[metric]) for r in curve])
+            ax.plot(t, e, ls, marker=marker, color=colors[ci], label=label, markersize=2.8,
+                    markerfacecolor="white" if ls != "-" else colors[ci], markeredgewidth=0.7)
+            for r, ti, ei in ((curve[0], t[0], e[0]), (curve[-1], t[-1], e[-1])):
+                ax.annotate(r["spp"], (ti, ei), textcoords="offset points", xytext=(3, 2), fontsize=6,
+                            color=colors[ci])
+        if ours_ref is not None:
+            floor = float(ours_ref[metric])
+            ax.axhline(floor, color="0.55", linestyle=":", linewidth=0.8)
+            ax.annotate("ours vs Mitsuba, converged", (0.02, floor), xycoords=("axes fraction", "data"),
+                        textcoords="offset points", xytext=(0, 2), fontsize=6, color="0.4")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("render time per image (s)")
+        ax.set_ylabel(ylabel)
+        ax.set_title(f"{tag} {ylabel} against the reference", loc="left")
+        ax.grid(True, which="major")
+    axes[0].legend(loc="lower left", frameon=False)
+    reference = next((n for n in notes if n.startswith("reference")), "")
+    if reference:
+        print(reference)
+    for path in style.savefig(fig, "fig_peer"):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
