@@ -1,7 +1,7 @@
 """Figure: a gallery of renders, the seed's three functional scenes and three realistic bubbles.
 
 Run:  python paper/scripts/fig_gallery.py [--quick]
-Renders scene files from ``data/scenes/`` with ``tracer``; writes ``gallery.pdf``/``.png``.
+Renders scene files from ``data/scenes/`` with ``tracer``; writes ``fig_gallery.pdf``/``.png``.
 
 Top row, the seed coursework's functional tests (its figures 3.3-3.5, rebuilt from their captions
 in the seed's text format, seen by its default camera against its black background): (a) a
@@ -73,7 +73,7 @@ def main(argv=None):
         ax.set_title(title, fontsize=7, pad=2)
         ax.set_axis_off()
     print(f"six renders, {size} x {size} pixels, {spp} sample(s) per pixel: {time.perf_counter() - t0:.1f} s")
-    for path in style.savefig(fig, "gallery"):
+    for path in style.savefig(fig, "fig_gallery"):
         print(f"wrote {path}")
     return 0
 
