@@ -25,7 +25,11 @@ pinhole camera (vertical field of view 40 degrees), 256x256, box pixel filter in
 3. **References.**  Mitsuba (LLVM variant) at ``--reference-spp`` samples per pixel in passes
    of 256 with distinct seeds, and ours at 256 spp (another seed than the sweep's).  The RMSE
    between the two is the systematic floor (texture filtering; both integrate the same box
-   pixel footprint).  The reference's own noise is estimated from its two halves.
+   pixel footprint).  The reference's own noise is estimated from its two halves.  The
+   headline errors (``rmse``, ``mean_de00``) are against Mitsuba's: an independent renderer,
+   whose bilinear lookup is the closer one to the continuous environment, so that any
+   systematic difference counts against ours; the CSV also has the errors against ours and
+   against the mean of the two.
 4. **Sweeps.**  Ours at 1, 4, 16, 64 spp, exhaustive (threshold 0) and pruned (the default
    threshold 1e-3), timed by ``render_with_stats`` (compilation excluded); Mitsuba
    ``llvm_ad_rgb`` (stratified sampler, and independent) at 1-4096 spp and ``scalar_rgb``
@@ -56,6 +60,7 @@ import datetime
 import math
 import os
 import platform
+import shutil
 import sys
 import tempfile
 import time
@@ -343,7 +348,8 @@ def orientation_check(mi, image, folder, size, spp_mitsuba, spp_ours):
         for kind in ("empty", "mirror"):
             ours = render_ours(our_scene(kind, image), spp_ours, SEED_SWEEP, size)[0]
             theirs = render_mitsuba(mi, mitsuba_scene(mi, kind, envmap, size=size), spp_mitsuba, SEED_SWEEP)[0]
-            results[(orientation, kind)] = (rmse(ours, theirs), mean_de00(ours, theirs), float(np.sqrt(np.mean(ours**2))))
+            scale = float(np.sqrt(np.mean(ours**2)))
+            results[(orientation, kind)] = (rmse(ours, theirs), mean_de00(ours, theirs), scale)
     return results
 
 
@@ -398,7 +404,7 @@ def main(argv=None):
 
     import numba
 
-    import tracer  # noqa: F401
+    import tracer
 
     quick = args.quick
     size = 64 if quick else SIZE
@@ -439,29 +445,29 @@ def main(argv=None):
 
     # 2. references
     envmap = mitsuba_environment(mi, image, folder)
-    ref_ours, ref_ours_seconds, ref_ours_rays = render_ours(glass_ours, OURS_REFERENCE_SPP, SEED_OURS_REFERENCE, size)
+    ref_ours, ref_ours_seconds, ref_ours_rays = render_ours(glass_ours, OURS_REFERENCE_SPP, SEED_OURS_REFERENCE,
+                                                            size)
     glass_mi = mitsuba_scene(mi, "glass", envmap, size=size)
     render_mitsuba(mi, glass_mi, REFERENCE_PASS_SPP, 0)  # warm-up
     ref_mi, ref_mi_spp, ref_mi_seconds, ref_mi_noise = mitsuba_reference(mi, glass_mi, ref_spp, ref_budget)
     references = {"mitsuba": ref_mi, "ours": ref_ours, "mean": 0.5 * (ref_mi + ref_ours)}
     floor_rmse = rmse(ref_mi, ref_ours)
     floor_de = mean_de00(ref_mi, ref_ours)
-    print(f"\nreferences: Mitsuba {ref_variant} {ref_mi_spp} spp ({ref_mi_seconds:.1f} s, noise RMSE ~{ref_mi_noise:.2e}),"
-          f" ours {OURS_REFERENCE_SPP} spp ({ref_ours_seconds:.2f} s);"
+    print(f"\nreferences: Mitsuba {ref_variant} {ref_mi_spp} spp ({ref_mi_seconds:.1f} s, noise RMSE"
+          f" ~{ref_mi_noise:.2e}), ours {OURS_REFERENCE_SPP} spp ({ref_ours_seconds:.2f} s);"
           f" RMSE between them {floor_rmse:.2e}, mean dE00 {floor_de:.3f}", flush=True)
 
-    # 3. sweeps: every configuration warmed up once, then `repeats` rounds over all of them in
-    # turn, so that a load from elsewhere on the machine falls on both renderers alike
-    import tracer as _tracer
-
+    # 3. sweeps: every configuration warmed up, then timed in rounds (renderers alternating) until
+    # each has `repeats` runs during which other processes left the CPUs alone
     configs = []  # (renderer, variant, sampler, threshold, spp, render(seed) -> (image, seconds, rays))
     ours_configs = []
-    for variant, threshold in (("exhaustive", 0.0), ("pruned", _tracer.DEFAULTS["threshold"])):
+    for variant, threshold in (("exhaustive", 0.0), ("pruned", tracer.DEFAULTS["threshold"])):
         for spp in ours_spp:
             ours_configs.append(("ours", variant, "stratified", threshold, spp,
                                  lambda seed, spp=spp, th=threshold: render_ours(glass_ours, spp, seed, size, th)))
     mitsuba_configs = []
-    for variant, sampler in (("llvm_ad_rgb", "stratified"), ("llvm_ad_rgb", "independent"), ("scalar_rgb", "stratified")):
+    for variant, sampler in (("llvm_ad_rgb", "stratified"), ("llvm_ad_rgb", "independent"),
+                             ("scalar_rgb", "stratified")):
         if variant not in variants:
             continue
         mi.set_variant(variant)
@@ -474,7 +480,8 @@ def main(argv=None):
         for spp in mitsuba_spp:
             if variant == "scalar_rgb" and spp > (64 if quick else SCALAR_MAX_SPP):
                 continue
-            mitsuba_configs.append(("mitsuba", variant, sampler, "", spp, lambda seed, spp=spp, run=run: run(seed, spp)))
+            mitsuba_configs.append(("mitsuba", variant, sampler, "", spp,
+                                    lambda seed, spp=spp, run=run: run(seed, spp)))
     for k in range(max(len(ours_configs), len(mitsuba_configs))):  # alternate the two renderers
         configs += ours_configs[k : k + 1] + mitsuba_configs[k : k + 1]
 
@@ -528,7 +535,8 @@ def main(argv=None):
               f" {row['seconds_min']:8.4f})  RMSE {row['rmse']:.3e}  dE00 {row['mean_de00']:.3f}  (RMSE vs ours-ref"
               f" {row['rmse_vs_ours']:.3e}, vs mean {row['rmse_vs_mean']:.3e})", flush=True)
 
-    print(f"\n{size}x{size}, depth {DEPTH}, median of {repeats}; errors against the {HEADLINE_REFERENCE} reference:")
+    print(f"\n{size}x{size}, depth {DEPTH}, median of the clean runs; errors against the {HEADLINE_REFERENCE} "
+          "reference:")
     for k, (renderer, variant, sampler, threshold, spp, _) in sorted(
             enumerate(configs), key=lambda kc: (kc[1][0] != "ours", kc[1][1], kc[1][2], kc[1][4])):
         add(renderer, variant, sampler, threshold, spp, first[k][0], first[k][1], runs[k])
@@ -561,8 +569,8 @@ def main(argv=None):
     with open(tmp, "w", newline="") as f:
         f.write(f"# written by benchmarks/peer_mitsuba.py{' --quick' if quick else ''} on {stamp} ({note}); "
                 f"mitsuba {mi.__version__}\n")
-        f.write(f"# scene: clear glass sphere n = {IOR}, radius 1, at the origin; pinhole camera at (0, 0, 4) looking at"
-                f" it, vertical fov {FOV_DEG} deg, {size}x{size}, box filter, depth {DEPTH}; environment "
+        f.write(f"# scene: clear glass sphere n = {IOR}, radius 1, at the origin; pinhole camera at (0, 0, 4) "
+                f"looking at it, vertical fov {FOV_DEG} deg, {size}x{size}, box filter, depth {DEPTH}; environment "
                 f"{image.shape[1]}x{image.shape[0]} procedural (nearest texel in ours, bilinear in Mitsuba); ours: "
                 f"Whitted, RGB, threshold 0 (exhaustive) or 1e-3 (pruned); Mitsuba: path, max_depth {DEPTH}, "
                 f"rr_depth 1000; seconds: median of the clean runs (compilation excluded; renderers interleaved; "
@@ -578,6 +586,7 @@ def main(argv=None):
         for r in rows:
             writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
     os.replace(tmp, out)
+    shutil.rmtree(folder, ignore_errors=True)  # the EXR files
     print(f"\nwrote {out}")
     return 0
 

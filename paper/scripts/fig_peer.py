@@ -7,8 +7,9 @@ the optional ``mitsuba`` package); writes ``fig_peer.pdf``/``.png``.
 (a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference, both against seconds per
 256x256 image (median of the runs, compilation excluded), log-log.  Ours: Whitted, exhaustive
 tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
-LLVM variant with the stratified and the independent sampler, scalar variant, 1-1024 spp.  The
-first and last point of each curve are labelled with their samples per pixel.  Dotted grey:
+LLVM variant with the stratified and the independent sampler (1-4096 spp), scalar variant with
+the stratified sampler (1-1024 spp).  Numbers beside the points: samples per pixel (every point
+of the two main curves, the last point of the others).  Dotted grey:
 the difference between our converged image and Mitsuba's (texture filtering), below which
 neither curve can go against the other's reference.  Quick mode draws the same figure (it only
 reads the table).
@@ -24,13 +25,14 @@ import style
 
 PEER = paths.DERIVED / "peer_mitsuba.csv"
 
-#: (renderer, variant, sampler) -> (label, colour index, line style, marker)
+#: (renderer, variant, sampler) -> (label, colour index, line style, marker, which points get their
+#: spp written beside them ("all" or "last"), label offset in points)
 CURVES = {
-    ("ours", "exhaustive", "stratified"): ("ours, exhaustive", 0, "-", "o"),
-    ("ours", "pruned", "stratified"): ("ours, pruned $10^{-3}$", 0, "--", "o"),
-    ("mitsuba", "llvm_ad_rgb", "stratified"): ("Mitsuba LLVM, stratified", 1, "-", "s"),
-    ("mitsuba", "llvm_ad_rgb", "independent"): ("Mitsuba LLVM, independent", 1, ":", "s"),
-    ("mitsuba", "scalar_rgb", "stratified"): ("Mitsuba scalar, stratified", 2, "-", "^"),
+    ("ours", "exhaustive", "stratified"): ("ours, exhaustive", 0, "-", "o", "all", (3, 3)),
+    ("ours", "pruned", "stratified"): ("ours, pruned $10^{-3}$", 0, "--", "o", "last", (0, -9)),
+    ("mitsuba", "llvm_ad_rgb", "stratified"): ("Mitsuba LLVM, stratified", 1, "-", "s", "all", (-3, -8)),
+    ("mitsuba", "llvm_ad_rgb", "independent"): ("Mitsuba LLVM, independent", 1, ":", "s", "last", (3, 1)),
+    ("mitsuba", "scalar_rgb", "stratified"): ("Mitsuba scalar, stratified", 2, "-", "^", "last", (3, 1)),
 }
 
 
@@ -58,7 +60,7 @@ def main(argv=None):
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
     panels = (("rmse", "RMSE (linear RGB)", "(a)"), ("mean_de00", r"mean $\Delta E_{00}$", "(b)"))
     for ax, (metric, ylabel, tag) in zip(axes, panels):
-        for key, (label, ci, ls, marker) in CURVES.items():
+        for key, (label, ci, ls, marker, which, offset) in CURVES.items():
             curve = sorted((r for r in sweep if (r["renderer"], r["variant"], r["sampler"]) == key),
                            key=lambda r: int(r["spp"]))
             if not curve:
@@ -67,21 +69,24 @@ def main(argv=None):
             e = np.array([float(r[metric]) for r in curve])
             ax.plot(t, e, ls, marker=marker, color=colors[ci], label=label, markersize=2.8,
                     markerfacecolor="white" if ls != "-" else colors[ci], markeredgewidth=0.7)
-            for r, ti, ei in ((curve[0], t[0], e[0]), (curve[-1], t[-1], e[-1])):
-                ax.annotate(r["spp"], (ti, ei), textcoords="offset points", xytext=(3, 2), fontsize=6,
-                            color=colors[ci])
+            labelled = range(len(curve)) if which == "all" else [len(curve) - 1]
+            for k in labelled:
+                ax.annotate(curve[k]["spp"], (t[k], e[k]), textcoords="offset points", xytext=offset, fontsize=5.5,
+                            color=colors[ci], ha="right" if offset[0] < 0 else "left")
         if ours_ref is not None:
             floor = float(ours_ref[metric])
             ax.axhline(floor, color="0.55", linestyle=":", linewidth=0.8)
-            ax.annotate("ours vs Mitsuba, converged", (0.02, floor), xycoords=("axes fraction", "data"),
+            ax.annotate("ours vs Mitsuba, both converged", (0.02, floor), xycoords=("axes fraction", "data"),
                         textcoords="offset points", xytext=(0, 2), fontsize=6, color="0.4")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        low, high = ax.get_ylim()
+        ax.set_ylim(low / 1.4, high)  # room for the labels of the last points
         ax.set_xlabel("render time per image (s)")
         ax.set_ylabel(ylabel)
         ax.set_title(f"{tag} {ylabel} against the reference", loc="left")
         ax.grid(True, which="major")
-    axes[0].legend(loc="lower left", frameon=False)
+    axes[0].legend(loc="upper right", frameon=False)
     reference = next((n for n in notes if n.startswith("reference")), "")
     if reference:
         print(reference)
