@@ -17,29 +17,15 @@ Two sections:
 
 from __future__ import annotations
 
-import importlib.util
 import itertools
 import math
-import pathlib
-import sys
 
 import mpmath
 import numpy as np
 import pytest
+import reference as ref  # tests/reference.py (tests/ is on sys.path under pytest)
 
 
-def _load_reference():
-    name = "_bubbleoptics_tests_reference"
-    if name not in sys.modules:
-        path = pathlib.Path(__file__).with_name("reference.py")
-        spec = importlib.util.spec_from_file_location(name, path)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[name] = mod
-        spec.loader.exec_module(mod)
-    return sys.modules[name]
-
-
-ref = _load_reference()
 
 POLS = ("s", "p", "unpolarized")
 TMM_TOL = 1e-10  # package vs tmm
