@@ -66,6 +66,33 @@ def setting(r):
     return (r["transport"], r["spectral_samples"], r["spectral_method"], r["threshold"], r["spp"], r["depth"])
 
 
+def scene_front(rows, scene):
+    """One scene's study: its settings (each once), the interior-error Pareto front, the defaults.
+
+    Returns a dict with ``points`` (rows, every setting once, the reference excluded),
+    ``front`` (indices into ``points``, by increasing time), ``default`` (the defaults' row),
+    ``default_on_front`` and ``reference_seconds``.  ``paper/scripts/make_numbers.py`` quotes
+    the same selection.
+    """
+    sel = [r for r in rows if r["scene"] == scene]
+    if not sel:
+        raise ValueError(f"no rows for scene {scene!r}")
+    pts, seen = [], set()
+    for r in sel:  # each setting once (the sweeps share the defaults)
+        if r["factor"] != "reference" and group(r) and setting(r) not in seen:
+            seen.add(setting(r))
+            pts.append(r)
+    front = pareto_front([r["seconds"] for r in pts], [r["interior_mean_de00"] for r in pts])
+    default = next(r for r in sel if r["is_default"] == 1)
+    return {
+        "points": pts,
+        "front": front,
+        "default": default,
+        "default_on_front": any(setting(pts[i]) == setting(default) for i in front),
+        "reference_seconds": next(r["seconds"] for r in sel if r["factor"] == "reference"),
+    }
+
+
 def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
     rows = read_rows(CSV)
@@ -75,13 +102,8 @@ def main(argv=None):
     handles = {}
     for scene, title in SCENES.items():
         ax = axes[scene]
-        sel = [r for r in rows if r["scene"] == scene]
-        t_ref = next(r["seconds"] for r in sel if r["factor"] == "reference")
-        pts, seen = [], set()
-        for r in sel:  # each setting once (the sweeps share the defaults)
-            if r["factor"] != "reference" and group(r) and setting(r) not in seen:
-                seen.add(setting(r))
-                pts.append(r)
+        sf = scene_front(rows, scene)
+        pts, t_ref, default, front = sf["points"], sf["reference_seconds"], sf["default"], sf["front"]
         t = np.array([r["seconds"] for r in pts])
         e_int = np.array([r["interior_mean_de00"] for r in pts])
         e_all = np.array([r["mean_de00"] for r in pts])
@@ -96,9 +118,7 @@ def main(argv=None):
             handles.setdefault(label, h)
         front_all = pareto_front(t, e_all)
         h_all, = ax.step(t[front_all], e_all[front_all], "--", where="post", color="0.55", lw=0.6, zorder=1)
-        front = pareto_front(t, e_int)
         h_front, = ax.step(t[front], e_int[front], "-", where="post", color="k", lw=0.7, zorder=2)
-        default = next(r for r in sel if r["is_default"] == 1)
         h_def, = ax.plot(default["seconds"], default["interior_mean_de00"], "*", markersize=7, color="#F0E442",
                          markeredgecolor="k", markeredgewidth=0.5, zorder=5)
         ax.axvline(t_ref, color="k", ls=":", lw=0.6)
@@ -110,7 +130,7 @@ def main(argv=None):
         ax.set_title(title, pad=2)
         ax.set_xlabel("render time (s)", labelpad=1)
         ax.set_ylabel("mean $\\Delta E_{00}$, interior", labelpad=1)
-        on_front = any(pts[i] is default or setting(pts[i]) == setting(default) for i in front)
+        on_front = sf["default_on_front"]
         print(f"{scene}: reference {t_ref:.1f} s; defaults {default['seconds'] * 1e3:.1f} ms, interior mean dE00 "
               f"{default['interior_mean_de00']:.3f} (all pixels {default['mean_de00']:.3f}), "
               f"{default['speedup_vs_reference']:.0f}x faster, on the front: {on_front}; front of {len(front)} points")

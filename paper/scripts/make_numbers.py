@@ -21,6 +21,10 @@ Sources, section by section:
 * ``grazing`` and ``aliasing``: ``data/derived/stability_grazing.csv`` and
   ``stability_aliasing.csv`` (``benchmarks/stability.py``); unpolarized light, as in
   ``fig_stability.py``.
+* ``timeerror``: ``data/derived/time_vs_error.csv`` (``benchmarks/time_vs_error.py``), with the
+  selection and Pareto front of ``fig_time_vs_error.py``.
+* ``peer``: ``data/derived/peer_mitsuba.csv`` (``benchmarks/peer_mitsuba.py``, optional Mitsuba),
+  times to equal error by that benchmark's ``time_at_error``.
 * ``physics``: computed here with :mod:`bubbleoptics` (the two-beam error, water's index): a
   few milliseconds, no data file.
 * ``documented``: tolerances the test suite enforces, read from the sentences of ``README.md``
@@ -86,8 +90,10 @@ def significant(x: float, n: int = 2, min_decimals: int = 0) -> str:
     if x == 0:
         return "0"
     exponent = math.floor(math.log10(abs(x)))
-    decimals = max(n - 1 - exponent, min_decimals, 0)
     rounded = round(x, n - 1 - exponent)
+    if rounded and abs(rounded) >= 10.0 ** (exponent + 1):  # 0.0999 -> 0.10, not 0.100
+        exponent += 1
+    decimals = max(n - 1 - exponent, min_decimals, 0)
     text = f"{abs(rounded):.{decimals}f}"
     whole, _, frac = text.partition(".")
     out = _group(whole) + ("." + frac if frac else "")
@@ -427,6 +433,134 @@ PHYSICS_MACROS = (
 _NUM = r"([0-9][0-9.]*(?:e[-+]?[0-9]+)?)"
 
 
+SCENE_WORDS = {"builtin": "Builtin", "bubbles": "Bubbles", "materials": "Materials"}
+
+
+def timeerror(dirs):
+    """Run time against error (``benchmarks/time_vs_error.py``), with the selection and Pareto front
+    of ``fig_time_vs_error.py`` (:func:`fig_time_vs_error.scene_front`)."""
+    import fig_time_vs_error as tve
+
+    path = dirs["derived"] / "time_vs_error.csv"
+    notes, _ = read_commented_csv(path)
+    rows = tve.read_rows(path)
+    out = {"TvEMachine": _machine(notes), "TvEDate": _date(notes)}
+    ref = next(r for r in rows if r["factor"] == "reference")
+    out["TvESize"] = str(int(float(ref["width"])))
+    out["TvERefSpp"] = str(int(ref["spp"]))
+    out["TvERefDepth"] = str(int(ref["depth"]))
+    out["TvETargetError"] = significant(tve.TARGET_ERROR, 1)
+    out["TvETargetSpeedup"] = significant(tve.TARGET_SPEEDUP, 2)
+    interior, allpix, speedup, on_front = [], [], [], []
+    for scene, word in SCENE_WORDS.items():
+        sf = tve.scene_front(rows, scene)
+        d = sf["default"]
+        interior.append(d["interior_mean_de00"])
+        allpix.append(d["mean_de00"])
+        speedup.append(d["speedup_vs_reference"])
+        on_front.append(sf["default_on_front"])
+        out[f"TvEInterior{word}"] = significant(d["interior_mean_de00"], 2)
+        out[f"TvEAll{word}"] = significant(d["mean_de00"], 2)
+        out[f"TvESpeedup{word}"] = significant(d["speedup_vs_reference"], 3)
+        out[f"TvERefSeconds{word}"] = significant(sf["reference_seconds"], 2)
+        out[f"TvEDefaultMs{word}"] = significant(1e3 * d["seconds"], 2)
+        out[f"TvEInteriorFraction{word}"] = significant(100 * float(d["interior_fraction"]), 2)
+
+        def pick(factor, value):
+            found = [r for r in rows if r["scene"] == scene and r["factor"] == factor and r["value"] == value]
+            if len(found) != 1:
+                raise ValueError(f"{scene}: expected one {factor}={value} row, found {len(found)}")
+            return found[0]
+
+        if scene == "bubbles":
+            for value, key in (("rgb", "Rgb"), ("8", "EightBands"), ("16 band", "SixteenBandAveraged")):
+                out[f"TvE{key}Interior"] = significant(pick("spectral", value)["interior_mean_de00"], 2)
+            nine = pick("spp", "9")
+            out["TvENineSppAll"] = significant(nine["mean_de00"], 2)
+            out["TvENineSppSpeedup"] = significant(nine["speedup_vs_reference"], 2)
+            out["TvEDepthThreeInterior"] = significant(pick("depth", "3")["interior_mean_de00"], 2)
+            out["TvEDepthFourInterior"] = significant(pick("depth", "4")["interior_mean_de00"], 2)
+            exhaustive = pick("threshold", "0")
+            out["TvEPruningGain"] = significant(exhaustive["seconds"] / d["seconds"], 2)
+            out["TvEThresholdTenthInterior"] = significant(pick("threshold", "0.1")["interior_mean_de00"], 2)
+    out["TvEInteriorMax"] = significant(max(interior), 2)
+    out["TvEAllMax"] = significant(max(allpix), 2)
+    out["TvESpeedupMin"] = significant(min(speedup), 3)
+    out["TvEDefaultsOnFront"] = "1" if all(on_front) else "0"
+    return out
+
+
+TIMEERROR_MACROS = (
+    ["TvEMachine", "TvEDate", "TvESize", "TvERefSpp", "TvERefDepth", "TvETargetError", "TvETargetSpeedup",
+     "TvEInteriorMax", "TvEAllMax", "TvESpeedupMin", "TvEDefaultsOnFront"]
+    + [f"TvE{what}{w}" for what in ("Interior", "All", "Speedup", "RefSeconds", "DefaultMs", "InteriorFraction")
+       for w in SCENE_WORDS.values()]
+    + ["TvERgbInterior", "TvEEightBandsInterior", "TvESixteenBandAveragedInterior", "TvENineSppAll",
+       "TvENineSppSpeedup", "TvEDepthThreeInterior", "TvEDepthFourInterior", "TvEPruningGain",
+       "TvEThresholdTenthInterior"]
+)
+
+PEER_CURVES = {
+    "OursExhaustive": ("ours", "exhaustive", "stratified"),
+    "OursPruned": ("ours", "pruned", "stratified"),
+    "MitsubaStratified": ("mitsuba", "llvm_ad_rgb", "stratified"),
+    "MitsubaIndependent": ("mitsuba", "llvm_ad_rgb", "independent"),
+    "MitsubaScalar": ("mitsuba", "scalar_rgb", "stratified"),
+}
+
+
+def peer(dirs):
+    """Mitsuba 3 against our tracer (``benchmarks/peer_mitsuba.py``): time to the error ours
+    reaches at 4 spp, by the benchmark's own log-log interpolation (``time_at_error``)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from peer_mitsuba import time_at_error
+
+    notes, rows = read_commented_csv(dirs["derived"] / "peer_mitsuba.csv")
+    sweep = [r for r in rows if r["role"] == "sweep"]
+    curves = {}
+    for key, ident in PEER_CURVES.items():
+        curve = sorted((r for r in sweep if (r["renderer"], r["variant"], r["sampler"]) == ident),
+                       key=lambda r: int(r["spp"]))
+        if not curve:
+            raise ValueError(f"no rows for {ident}")
+        curves[key] = curve
+    out = {"PeerDate": _date(notes)}
+    m = re.search(r"mitsuba (\d+(?:\.\d+)+)", " ".join(notes))
+    out["PeerVersion"] = m.group(1) if m else NA
+    first = sweep[0]
+    out["PeerSize"] = str(int(first["width"]))
+    out["PeerDepth"] = str(int(first["depth"]))
+    mref = next(r for r in rows if r["role"] == "reference" and r["renderer"] == "mitsuba")
+    oref = next(r for r in rows if r["role"] == "reference" and r["renderer"] == "ours")
+    out["PeerRefSpp"] = _group(str(int(mref["spp"])))
+    out["PeerOursRefSpp"] = str(int(oref["spp"]))
+    out["PeerFloorRmse"] = scientific(float(oref["rmse"]), 2)
+    out["PeerFloorDe"] = significant(float(oref["mean_de00"]), 2)
+    four = next(r for r in curves["OursExhaustive"] if int(r["spp"]) == 4)
+    for metric, tag in (("rmse", "Rmse"), ("mean_de00", "De")):
+        target = float(four[metric])
+        out[f"PeerTarget{tag}"] = scientific(target, 2) if metric == "rmse" else significant(target, 2)
+        for key, curve in curves.items():
+            t = time_at_error([float(r["seconds"]) for r in curve], [float(r[metric]) for r in curve], target)
+            out[f"Peer{tag}{key}"] = significant(t, 2)
+    # what the curves are made of: seconds per sample per pixel, and samples needed for the target
+    per_spp = {k: float(c[-1]["seconds"]) / int(c[-1]["spp"]) for k, c in curves.items()}
+    out["PeerSampleCostRatio"] = significant(per_spp["OursExhaustive"] / per_spp["MitsubaStratified"], 2)
+    mi = curves["MitsubaStratified"]
+    spp_needed = time_at_error([int(r["spp"]) for r in mi], [float(r["rmse"]) for r in mi], float(four["rmse"]))
+    out["PeerSampleCountRatio"] = significant(spp_needed / 4, 2)
+    out["PeerMitsubaSppNeeded"] = significant(spp_needed, 2)
+    return out
+
+
+PEER_MACROS = (
+    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse",
+     "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe", "PeerSampleCostRatio", "PeerSampleCountRatio",
+     "PeerMitsubaSppNeeded"]
+    + [f"Peer{tag}{k}" for tag in ("Rmse", "De") for k in PEER_CURVES]
+)
+
+
 def documented(dirs):
     """Tolerances stated (and enforced) by the repository, read from the sentences stating them."""
     root = dirs["root"]
@@ -482,6 +616,8 @@ SECTIONS = {
     "grazing": (["derived/stability_grazing.csv"], grazing, GRAZING_MACROS),
     "aliasing": (["derived/stability_aliasing.csv"], aliasing, ALIASING_MACROS),
     "physics": (["bubbleoptics (computed)"], physics, PHYSICS_MACROS),
+    "timeerror": (["derived/time_vs_error.csv"], timeerror, TIMEERROR_MACROS),
+    "peer": (["derived/peer_mitsuba.csv"], peer, PEER_MACROS),
     "documented": (["README.md", "tests/"], documented, DOCUMENTED_MACROS),
     "defaults": (["tracer.render (signature)"], defaults, DEFAULTS_MACROS),
 }
@@ -489,7 +625,7 @@ SECTIONS = {
 _NAME = re.compile(r"^[A-Za-z]+$")
 
 #: Flags the paper tests with \ifnum: when their section fails they are 0, never n/a.
-FLAGS = {"BandlimitedAvailable": "0", "SeedBestIsAffine": "0"}
+FLAGS = {"BandlimitedAvailable": "0", "SeedBestIsAffine": "0", "TvEDefaultsOnFront": "0"}
 
 
 def build(dirs):
