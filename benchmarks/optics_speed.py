@@ -17,7 +17,6 @@ Then ``spectrum_to_XYZ`` against ``colour.sd_to_XYZ`` per spectrum.
 """
 
 import argparse
-import csv
 import datetime
 import os
 import platform
@@ -27,6 +26,12 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+
+try:
+    from _results import write_csv
+except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
+    sys.path.append(str(Path(__file__).resolve().parent))
+    from _results import write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "optics_speed.csv"
@@ -193,16 +198,11 @@ def main(argv=None):
         base = t_ours if row["case"] == "sweep" else t_xyz
         row["ratio_to_bubbleoptics"] = row["median_seconds"] / base
 
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".csv.tmp")
-    with open(tmp, "w", newline="") as fh:
-        fh.write(f"# written by benchmarks/optics_speed.py on {datetime.date.today()} "
-                 f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-                 f"Python {platform.python_version()}, numba threads {os.environ.get('NUMBA_NUM_THREADS', 'default')})\n")
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
-        writer.writeheader()
-        writer.writerows(rows)
-    os.replace(tmp, args.out)
+    write_csv(args.out, rows,
+              f"written by benchmarks/optics_speed.py on {datetime.date.today()} "
+              f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+              f"Python {platform.python_version()}, numba threads {os.environ.get('NUMBA_NUM_THREADS', 'default')})",
+              float_format=None)
     print(f"wrote {args.out}")
     return 0
 

@@ -55,7 +55,6 @@ after the other in the same process.  Mitsuba's kernels are cached by Dr.Jit in 
 from __future__ import annotations
 
 import argparse
-import csv
 import datetime
 import math
 import os
@@ -67,6 +66,12 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+try:
+    from _results import write_csv
+except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
+    sys.path.append(str(Path(__file__).resolve().parent))
+    from _results import write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "peer_mitsuba.csv"
@@ -564,28 +569,23 @@ def main(argv=None):
     columns = ["renderer", "variant", "sampler", "threshold", "spp", "role", "width", "height", "depth", "seconds",
                "seconds_min", "clean_runs", "seconds_runs", "other_cpu_share", "rays", "rmse", "mean_de00"]
     columns += [f"{k}_vs_{n}" for n in references for k in ("rmse", "de00")]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.tmp")
-    with open(tmp, "w", newline="") as f:
-        f.write(f"# written by benchmarks/peer_mitsuba.py{' --quick' if quick else ''} on {stamp} ({note}); "
-                f"mitsuba {mi.__version__}\n")
-        f.write(f"# scene: clear glass sphere n = {IOR}, radius 1, at the origin; pinhole camera at (0, 0, 4) "
-                f"looking at it, vertical fov {FOV_DEG} deg, {size}x{size}, box filter, depth {DEPTH}; environment "
-                f"{image.shape[1]}x{image.shape[0]} procedural (nearest texel in ours, bilinear in Mitsuba); ours: "
-                f"Whitted, RGB, threshold 0 (exhaustive) or 1e-3 (pruned); Mitsuba: path, max_depth {DEPTH}, "
-                f"rr_depth 1000; seconds: median of the clean runs (compilation excluded; renderers interleaved; "
-                f"a run of a configuration shorter than {MIN_WINDOW_SECONDS} s is the median of a batch lasting that "
-                f"long); {load_note}\n")
-        f.write(f"# {ref_note}\n")
-        f.write(f"# orientation check, ours vs Mitsuba (matched; then three wrong orientations): {checks}\n")
-        ttl = "; ".join(f"{m} {lab} {target:.4g}: ours {ov} {a:.4g} s, {v} {smp} {b:.4g} s, ratio {b / a:.3g}"
-                        for m, lab, target, ov, a, v, smp, b in summary if math.isfinite(a) and math.isfinite(b))
-        f.write(f"# time to equal error (log-log interpolation, Mitsuba / ours): {ttl}\n")
-        writer = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
-        writer.writeheader()
-        for r in rows:
-            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
-    os.replace(tmp, out)
+    ttl = "; ".join(f"{m} {lab} {target:.4g}: ours {ov} {a:.4g} s, {v} {smp} {b:.4g} s, ratio {b / a:.3g}"
+                    for m, lab, target, ov, a, v, smp, b in summary if math.isfinite(a) and math.isfinite(b))
+    comments = [
+        f"written by benchmarks/peer_mitsuba.py{' --quick' if quick else ''} on {stamp} ({note}); "
+        f"mitsuba {mi.__version__}",
+        f"scene: clear glass sphere n = {IOR}, radius 1, at the origin; pinhole camera at (0, 0, 4) "
+        f"looking at it, vertical fov {FOV_DEG} deg, {size}x{size}, box filter, depth {DEPTH}; environment "
+        f"{image.shape[1]}x{image.shape[0]} procedural (nearest texel in ours, bilinear in Mitsuba); ours: "
+        f"Whitted, RGB, threshold 0 (exhaustive) or 1e-3 (pruned); Mitsuba: path, max_depth {DEPTH}, "
+        f"rr_depth 1000; seconds: median of the clean runs (compilation excluded; renderers interleaved; "
+        f"a run of a configuration shorter than {MIN_WINDOW_SECONDS} s is the median of a batch lasting that "
+        f"long); {load_note}",
+        ref_note,
+        f"orientation check, ours vs Mitsuba (matched; then three wrong orientations): {checks}",
+        f"time to equal error (log-log interpolation, Mitsuba / ours): {ttl}",
+    ]
+    write_csv(out, rows, comments, fieldnames=columns, float_format="{:.6g}", extrasaction="ignore")
     shutil.rmtree(folder, ignore_errors=True)  # the EXR files
     print(f"\nwrote {out}")
     return 0

@@ -24,6 +24,12 @@ from pathlib import Path
 
 import numpy as np
 
+try:
+    from _results import write_csv
+except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
+    sys.path.append(str(Path(__file__).resolve().parent))
+    from _results import write_csv
+
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "seed_table.csv"
 SCENES = {1: "seed_one_bubble.txt", 2: "seed_two_bubbles.txt", 3: "seed_three_bubbles.txt"}
@@ -101,17 +107,11 @@ def main(argv=None):
                      threshold=tracer.DEFAULTS["threshold"], width=size, height=size,
                      seconds_median=float(np.median(cold)), seconds_runs=" ".join(f"{t:.4f}" for t in cold)))
 
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".csv.tmp")
-    fields = list(rows[0].keys())
-    with open(tmp, "w", newline="") as fh:
-        fh.write(f"# written by benchmarks/seed_table.py on {datetime.date.today()} "
-                 f"({platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}); "
-                 "seed_seconds: the seed's table 4.1 (Apple M3 Pro)\n")
-        writer = csv.DictWriter(fh, fieldnames=fields, restval="")
-        writer.writeheader()
-        writer.writerows(rows)
-    os.replace(tmp, args.out)
+    write_csv(args.out, rows,
+              f"written by benchmarks/seed_table.py on {datetime.date.today()} "
+              f"({platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}); "
+              "seed_seconds: the seed's table 4.1 (Apple M3 Pro)",
+              float_format=None)
     print(f"wrote {args.out}")
     return 0
 

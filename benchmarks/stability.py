@@ -39,6 +39,12 @@ from pathlib import Path
 
 import numpy as np
 
+try:
+    from _results import write_csv as write_results_csv
+except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
+    sys.path.append(str(Path(__file__).resolve().parent))
+    from _results import write_csv as write_results_csv
+
 ROOT = Path(__file__).resolve().parents[1]
 DERIVED = ROOT / "data" / "derived"
 GRAZING_CSV = DERIVED / "stability_grazing.csv"
@@ -360,25 +366,16 @@ ALIASING_COLUMNS = ("thickness_nm", "method", "n_bands", "theta", "X", "Y", "Z",
 # ------------------------------------------------------------------------------------------
 # Files
 # ------------------------------------------------------------------------------------------
-def _fmt(value, digits):
-    if isinstance(value, float):
-        # shortest round-trip representation ('nan' for NaN), or *digits* significant digits
-        return repr(value) if digits is None else f"{value:.{digits}g}"
-    return str(value)
-
-
 def write_csv(path, rows, columns, digits=None):
-    """Write *rows* (dicts) to *path* with a header; floats at full precision, or rounded to
-    *digits* significant digits."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    with open(tmp, "w", newline="") as f:
-        writer = csv.writer(f)
-        writer.writerow(columns)
-        for row in rows:
-            writer.writerow([_fmt(row[c], digits) for c in columns])
-    tmp.replace(path)
+    """Write *rows* (dicts) to *path* (atomically, by ``benchmarks/_results.py``) with a header;
+    floats at full precision (shortest round-trip representation, 'nan' for NaN), or rounded to
+    *digits* significant digits.
+
+    No ``#`` provenance line: ``paper/scripts/fig_stability.py`` and :func:`read_csv` take the
+    first line as the header (``data/README.md`` names the command that regenerates these files).
+    """
+    return write_results_csv(path, rows, None, fieldnames=list(columns),
+                             float_format=None if digits is None else f"{{:.{digits}g}}", extrasaction="ignore")
 
 
 def rows_to_columns(rows):

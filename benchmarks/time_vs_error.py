@@ -69,6 +69,12 @@ from pathlib import Path
 
 import numpy as np
 
+try:
+    from _results import write_csv as write_results_csv
+except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
+    sys.path.append(str(Path(__file__).resolve().parent))
+    from _results import write_csv as write_results_csv
+
 ROOT = Path(__file__).resolve().parents[1]
 DERIVED = ROOT / "data" / "derived"
 OUT_CSV = DERIVED / "time_vs_error.csv"
@@ -445,26 +451,11 @@ def _row(scene, factor, value, s, size, runs, errors, rays, ref_seconds, is_defa
 # ------------------------------------------------------------------------------------------
 # Files
 # ------------------------------------------------------------------------------------------
-def _fmt(v):
-    if isinstance(v, float):
-        return "" if math.isnan(v) else f"{v:.6g}"
-    return str(v)
-
-
 def write_csv(rows, path=OUT_CSV, notes=()):
-    """Write *rows* to *path* (atomically), each note as a leading ``# `` line."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    with open(tmp, "w", newline="") as f:
-        for note in notes:
-            f.write(f"# {note}\n")
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(COLUMNS)
-        for r in rows:
-            writer.writerow([_fmt(r.get(c, "")) for c in COLUMNS])
-    os.replace(tmp, path)
-    return path
+    """Write *rows* to *path* (atomically, by ``benchmarks/_results.py``), each note as a leading
+    ``# `` line; floats to 6 significant digits, NaN as an empty cell, columns :data:`COLUMNS`."""
+    return write_results_csv(path, rows, list(notes), fieldnames=COLUMNS, float_format="{:.6g}", na_rep="",
+                             lineterminator="\n", extrasaction="ignore")
 
 
 _TEXT = ("scene", "factor", "value", "transport", "spectral_method", "seconds_runs")
