@@ -21,6 +21,7 @@ Sources, section by section:
 * ``grazing`` and ``aliasing``: ``data/derived/stability_grazing.csv`` and
   ``stability_aliasing.csv`` (``benchmarks/stability.py``); unpolarized light, as in
   ``fig_stability.py``.
+* ``bandlimited``: ``data/derived/bandlimited_colour.csv`` (``benchmarks/bandlimited_colour.py``).
 * ``timeerror``: ``data/derived/time_vs_error.csv`` (``benchmarks/time_vs_error.py``), with the
   selection and Pareto front of ``fig_time_vs_error.py``.
 * ``peer``: ``data/derived/peer_mitsuba.csv`` (``benchmarks/peer_mitsuba.py``, optional Mitsuba),
@@ -433,6 +434,69 @@ PHYSICS_MACROS = (
 _NUM = r"([0-9][0-9.]*(?:e[-+]?[0-9]+)?)"
 
 
+ANGLE_WORDS = {0: "Normal", 60: "Sixty"}
+
+
+def bandlimited(dirs):
+    """Film colour from few bands (``benchmarks/bandlimited_colour.py``): our band-limited method,
+    point sampling, band means, and the two published approaches it is compared with."""
+    notes, rows = read_commented_csv(dirs["derived"] / "bandlimited_colour.csv")
+
+    def row(method, theta, n_bands="", order="", illuminant="D65"):
+        found = [r for r in rows if r["method"] == method and int(float(r["theta_deg"])) == theta
+                 and r["n_bands"] == str(n_bands) and r["order"] == str(order) and r["illuminant"] == illuminant]
+        if len(found) != 1:
+            raise ValueError(f"expected one row {method}/{theta}/{n_bands}/{order}/{illuminant}, found {len(found)}")
+        return {k: _float(v) if k not in ("method", "illuminant", "note") else v for k, v in found[0].items()}
+
+    out = {}
+    m = re.search(r"(\d+) thicknesses 0-(\d+) nm", " ".join(notes))
+    out["BlThicknesses"] = _group(m.group(1)) if m else NA
+    out["BlMaxThicknessUm"] = significant(float(m.group(2)) / 1000, 2) if m else NA
+    defaults = {r["order"] for r in rows if r["method"] == "bandlimited" and r["note"] == "default"}
+    if len(defaults) != 1:
+        raise ValueError(f"expected one default weight degree, found {sorted(defaults)}")
+    order = defaults.pop()
+    out["BlOrder"] = order
+    for theta, word in ANGLE_WORDS.items():
+        for n_bands, bands in ((4, "Four"), (8, "Eight"), (16, "Sixteen")):
+            r = row("bandlimited", theta, n_bands, order)
+            out[f"Bl{bands}Max{word}"] = significant(r["dE00_max"], 2)
+        r16 = row("bandlimited", theta, 16, order)
+        out[f"BlSixteenMedian{word}"] = significant(r16["dE00_median"], 2)
+        out[f"BlSixteenThinMax{word}"] = significant(r16["dE00_max_0_2um"], 2)
+        out[f"BlPointSixteenMax{word}"] = significant(row("point", theta, 16)["dE00_max"], 2)
+        out[f"BlPointSixteenThinMax{word}"] = significant(row("point", theta, 16)["dE00_max_0_2um"], 2)
+        out[f"BlBandMeanSixteenMax{word}"] = significant(row("band_mean", theta, 16, 6)["dE00_max"], 2)
+        out[f"BlFourEightMax{word}"] = significant(row("bandlimited", theta, 4, 8)["dE00_max"], 2)
+        gauss = row("gaussian_fit_BB2017", theta, illuminant="E")
+        out[f"GaussThinMedian{word}"] = significant(gauss["dE00_median_0_2um"], 2)
+        out[f"GaussMax{word}"] = significant(gauss["dE00_max"], 2)
+        out[f"GaussDispMax{word}"] = significant(row("gaussian_fit_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
+        out[f"LutMax{word}"] = scientific(row("lut_nondispersive", theta, illuminant="E")["dE00_max"], 1)
+        lut = row("lut_nondispersive_vs_dispersive", theta, illuminant="E")
+        out[f"LutDispMedian{word}"] = significant(lut["dE00_median"], 2)
+        out[f"LutDispMax{word}"] = significant(lut["dE00_max"], 2)
+        out[f"LutNearDispMax{word}"] = significant(
+            row("lut_nondispersive_n555_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
+        out[f"BlWaterMax{word}"] = significant(row("bandlimited_water", theta, 16, order, "E")["dE00_max"], 2)
+    ns = lambda r: 0.5 * sum(row(*r[:1], t, *r[1:])["ns_per_colour"] for t in ANGLE_WORDS)  # noqa: E731
+    out["BlNsSixteen"] = significant(ns(("bandlimited", 16, order)), 2)
+    out["BlNsPointSixteen"] = significant(ns(("point", 16)), 2)
+    out["BlNsReference"] = significant(ns(("reference_1nm", 421)), 2)
+    return out
+
+
+BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixteen", "BlNsPointSixteen",
+                      "BlNsReference"] + [
+    f"{what}{w}" for what in (
+        "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenMedian", "BlSixteenThinMax", "BlPointSixteenMax",
+        "BlPointSixteenThinMax", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
+        "GaussDispMax", "LutMax", "LutDispMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax")
+    for w in ANGLE_WORDS.values()
+]
+
+
 SCENE_WORDS = {"builtin": "Builtin", "bubbles": "Bubbles", "materials": "Materials"}
 
 
@@ -616,6 +680,7 @@ SECTIONS = {
     "grazing": (["derived/stability_grazing.csv"], grazing, GRAZING_MACROS),
     "aliasing": (["derived/stability_aliasing.csv"], aliasing, ALIASING_MACROS),
     "physics": (["bubbleoptics (computed)"], physics, PHYSICS_MACROS),
+    "bandlimited": (["derived/bandlimited_colour.csv"], bandlimited, BANDLIMITED_MACROS),
     "timeerror": (["derived/time_vs_error.csv"], timeerror, TIMEERROR_MACROS),
     "peer": (["derived/peer_mitsuba.csv"], peer, PEER_MACROS),
     "documented": (["README.md", "tests/"], documented, DOCUMENTED_MACROS),
