@@ -292,13 +292,13 @@ def delta_E00(XYZ_a, XYZ_b, exposure):
 
 def predicted_onset_nm(n_bands, wavelength_nm, theta=0.0):
     """Thickness at which the fringe spacing in wavelength, lambda^2 / (2 n d cos theta_t),
-    equals the band width (hi - lo) / N, at *wavelength_nm* (water film, outside n = 1)."""
+    equals the band width (hi - lo) / N, at *wavelength_nm* (water film, outside n = 1):
+    :func:`bubbleoptics.point_sampling_limit_nm`, the limit the tracer's ``spectral_method="auto"``
+    uses."""
     import bubbleoptics as bo
 
-    n = bo.water_refractive_index(wavelength_nm)
-    cos_t = np.sqrt(1.0 - (np.sin(theta) / n) ** 2)
-    width = (BAND_HI_NM - BAND_LO_NM) / n_bands
-    return wavelength_nm**2 / (2.0 * n * cos_t * width)
+    assert (BAND_LO_NM, BAND_HI_NM) == bo.bandlimited.BAND_RANGE_NM
+    return float(bo.point_sampling_limit_nm(n_bands, wavelength_nm, theta))
 
 
 def running_median(thickness_nm, values, window_nm=ONSET_WINDOW_NM):

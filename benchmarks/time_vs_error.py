@@ -171,7 +171,8 @@ def configurations(band=None):
     """[(factor, value, setting)] of the study: one-factor sweeps around the defaults, then the grid.
 
     A setting is a dict with ``spectral`` (bool: spectral or RGB transport), ``spectral_samples``,
-    ``spectral_method`` (``"point"``: film at the band centre; ``"band"``: band-averaged film),
+    ``spectral_method`` (``"point"``: film at the band centre; ``"band"``: band-averaged film;
+    ``"auto"``: the tracer's choice between them, ``tracer.pack.resolve_spectral_method``),
     ``threshold``, ``spp`` and ``depth``.  *band*: include the band-averaged method (default:
     when the tracer accepts it).  Settings repeat across factors (every sweep passes through
     the defaults); :func:`run` renders each distinct one once.
@@ -182,7 +183,11 @@ def configurations(band=None):
     out = [("default", "default", dict(centre))]
     out.append(("spectral", "rgb", dict(centre, spectral=False)))
     for n in SPECTRAL_POINT:
-        out.append(("spectral", f"{n}", dict(centre, spectral_samples=n, spectral_method="point")))
+        # at the default band count the sweep passes through the defaults themselves, whose method
+        # may be "auto" (point sampling unless a film aliases: on the study's scenes, point)
+        same = n == centre["spectral_samples"] and centre["spectral_method"] == "auto"
+        out.append(("spectral", f"{n}", dict(centre) if same else dict(centre, spectral_samples=n,
+                                                                         spectral_method="point")))
     if band:
         for n in SPECTRAL_BAND:
             out.append(("spectral", f"{n} band", dict(centre, spectral_samples=n, spectral_method="band")))
@@ -208,8 +213,7 @@ def render_kwargs(s, size, seed=0):
               seed=seed, spectral=bool(s["spectral"]), progress=False)
     if s["spectral"]:
         kw["spectral_samples"] = int(s["spectral_samples"])
-        if s["spectral_method"] != "point":
-            kw["spectral_method"] = s["spectral_method"]
+        kw["spectral_method"] = s["spectral_method"]  # always: the tracer's default may be "auto"
     return kw
 
 

@@ -19,7 +19,7 @@ import numba as _numba
 if "NUMBA_THREADING_LAYER" not in _os.environ:
     _numba.config.THREADING_LAYER = "workqueue"
 
-from .bandlimited import film_color_bandlimited, film_reflectance_band
+from .bandlimited import film_color_bandlimited, film_reflectance_band, point_sampling_limit_nm
 from .colorimetry import (
     XYZ_to_display_sRGB,
     band_spectral_weights,
@@ -54,4 +54,5 @@ __all__ = [
     "film_color",
     "film_reflectance_band",
     "film_color_bandlimited",
+    "point_sampling_limit_nm",
 ]

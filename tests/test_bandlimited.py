@@ -393,3 +393,41 @@ def test_clear_errors():
         bo.film_reflectance_band([100.0, 200.0], 100.0)
     with pytest.raises(ValueError, match="quantity"):
         bo.film_color_bandlimited(100.0, quantity="absorptance")
+
+
+# --------------------------------------------------------------------------------------------
+# point_sampling_limit_nm: where one fringe spans one band
+# --------------------------------------------------------------------------------------------
+@pytest.mark.analytic
+@pytest.mark.parametrize("n_bands", [4, 16, 81])
+@pytest.mark.parametrize("theta_deg", [0.0, 45.0, 89.0])
+def test_point_sampling_limit_is_where_the_fringe_period_equals_a_band(n_bands, theta_deg):
+    """At the returned thickness the film's reflectance (constant index, so exactly periodic in
+    1/lambda) repeats after one band width measured at 400 nm: R(1/lambda) = R(1/lambda - 1/P) with
+    1/P the wavenumber period 1/(2 d q1), and the period in wavelength, lambda^2/(2 d q1), equals
+    the band width (780 - 360)/N."""
+
+    theta, n = np.deg2rad(theta_deg), 1.33
+    d = float(bo.point_sampling_limit_nm(n_bands, 400.0, theta, n_film=n))
+    q1 = np.sqrt(n**2 - np.sin(theta) ** 2)
+    width = 420.0 / n_bands
+    assert abs(400.0**2 / (2 * d * q1) - width) < 1e-12 * width
+    sigma = np.linspace(1 / 700.0, 1 / 420.0, 7)  # wavenumbers, 1/nm
+    shifted = 1.0 / (sigma - 1.0 / (2 * d * q1))
+    np.testing.assert_allclose(bo.film_reflectance(1 / sigma, d, theta, n),
+                               bo.film_reflectance(shifted, d, theta, n), rtol=0, atol=1e-12)
+
+
+@pytest.mark.analytic
+def test_point_sampling_limit_extremes_and_errors():
+    """Water by default; no limit (inf, not NaN) for an evanescent film; bad arguments name themselves."""
+
+    n400 = float(bo.water_refractive_index(400.0))
+    assert bo.point_sampling_limit_nm(16) == pytest.approx(400.0**2 / (2 * n400 * 420.0 / 16), rel=1e-14)
+    assert np.isinf(bo.point_sampling_limit_nm(16, theta=np.pi / 2, n_film=1.0))
+    assert np.isinf(bo.point_sampling_limit_nm(16, theta=1.2, n_film=0.9))
+    for bad in (0, 2.5, True):
+        with pytest.raises(ValueError, match="n_bands"):
+            bo.point_sampling_limit_nm(bad)
+    with pytest.raises(ValueError, match="theta"):
+        bo.point_sampling_limit_nm(16, theta=-0.1)

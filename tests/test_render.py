@@ -341,3 +341,71 @@ def test_rgb_transport_with_bubbles_is_finite():
     flat = tracer.render(bubble_scene(300.0), depth=20, threshold=0.0, spectral=False, **SMALL)
     steep = incidence_cosines(bubble_scene(300.0), SMALL["width"], SMALL["height"]) > 0.6
     np.testing.assert_allclose(flat[steep], np.broadcast_to((0.3, 0.5, 0.7), flat.shape)[steep], atol=1e-10)
+
+
+# --------------------------------------------------------------------------------------------
+# spectral_method="auto": band-averaged films only where point samples would alias
+# --------------------------------------------------------------------------------------------
+@pytest.mark.analytic
+@pytest.mark.parametrize(
+    "film",
+    [
+        FilmProfile("uniform", thickness_nm=750.0),
+        FilmProfile("uniform", thickness_nm=750.0, swirl=0.4, seed=3),
+        FilmProfile("draining", top_nm=40.0, bottom_nm=1300.0, swirl=0.35, seed=1),
+        FilmProfile("draining", top_nm=900.0, bottom_nm=200.0, exponent=1.0),
+        FilmProfile("map", table=np.linspace(10.0, 2500.0, 9 * 16).reshape(9, 16), swirl=0.2),
+    ],
+    ids=["uniform", "uniform-swirl", "draining-swirl", "draining-inverted", "map-swirl"],
+)
+def test_film_thickness_bound_holds_over_the_whole_bubble(film):
+    """tracer.pack.film_thickness_bound_nm bounds the thickness the integrator evaluates
+    (tracer.films.film_thickness) at every point of the sphere, and is attained without swirl."""
+    from tracer.films import film_thickness
+    from tracer.pack import film_thickness_bound_nm, pack_scene
+
+    scene = Scene(bubbles=[Bubble((0.0, 0.0, 0.0), 1.0, film)])
+    packed = pack_scene(scene)
+    normals = np.random.default_rng(7).normal(size=(20000, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = np.vstack([normals, [[0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]])  # the poles: top and bottom
+    d = np.array([film_thickness(packed.bubble_film[0], packed.film_maps, n) for n in normals])
+    bound = film_thickness_bound_nm(film)
+    assert d.max() <= bound * (1 + 1e-12), (d.max(), bound)
+    if film.swirl == 0:
+        assert d.max() >= bound * (1 - 1e-9), (d.max(), bound)
+
+
+@pytest.mark.analytic
+def test_auto_method_chooses_band_only_for_films_beyond_the_point_sampling_limit():
+    """The choice follows bubbleoptics.point_sampling_limit_nm / AUTO_FRINGE_BANDS (index at
+    400 nm, normal incidence): just below it point sampling, just above it band averaging; fewer bands lower
+    the limit; an explicit method is kept; a bad one is refused."""
+    import bubbleoptics as bo
+    from tracer.pack import resolve_spectral_method
+
+    limit16 = float(bo.point_sampling_limit_nm(16, n_film=1.333)) / tracer.pack.AUTO_FRINGE_BANDS
+    below, above = bubble_scene(0.99 * limit16), bubble_scene(1.01 * limit16)
+    assert resolve_spectral_method(below, 16) == "point"
+    assert resolve_spectral_method(above, 16) == "band"
+    assert resolve_spectral_method(below, 8) == "band"  # the 8-band limit is half the 16-band one
+    assert resolve_spectral_method(above, 32) == "point"
+    assert resolve_spectral_method(above, 16, "point") == "point"
+    assert resolve_spectral_method(below, 16, "band") == "band"
+    assert resolve_spectral_method(tracer.default_scene(), 16) == "point"  # films up to 1.28 um
+    with pytest.raises(ValueError, match="spectral_method"):
+        resolve_spectral_method(below, 16, "fast")
+
+
+@pytest.mark.regression
+@pytest.mark.parametrize("thickness_nm, expected", [(500.0, "point"), (15000.0, "band")])
+def test_auto_method_renders_exactly_what_it_chose(thickness_nm, expected):
+    """The default ("auto") image is the explicit method's image, and the stats report the choice."""
+    scene = bubble_scene(thickness_nm, env=Environment(kind="sky"))
+    kw = dict(width=16, height=16, depth=4, threshold=0.0, progress=False)
+    assert tracer.DEFAULTS["spectral_method"] == "auto"
+    img, stats = tracer.render_with_stats(scene, **kw)
+    assert stats.spectral_method == expected
+    np.testing.assert_array_equal(img, tracer.render(scene, spectral_method=expected, **kw))
+    _, rgb_stats = tracer.render_with_stats(scene, spectral=False, **kw)
+    assert rgb_stats.spectral_method == ""

@@ -78,8 +78,9 @@ def _add_render_options(p):
                    help="prune child rays whose throughput is at most this (0: the seed's exhaustive tree)")
     p.add_argument("--spectral-samples", type=_positive_int,
                    help="wavelength bands for spectral transport (scenes with bubbles)")
-    p.add_argument("--spectral-method", choices=("point", "band"),
-                   help="bubble films at the band centres (point) or averaged over each band (band)")
+    p.add_argument("--spectral-method", choices=("auto", "point", "band"),
+                   help="bubble films at the band centres (point), averaged over each band (band), or "
+                        "band only where a film is thick enough to alias (auto, the default)")
     p.add_argument("--seed", type=_nonnegative_int, help="random seed for sample positions")
     p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
                    help="replace the environment by this constant linear-RGB colour")
@@ -204,7 +205,7 @@ def _main(argv=None):
     if args.command == "research":
         report = dict(scene=str(scene_path), depth=s["depth"], width=s["width"], height=s["height"], spp=s["spp"],
                       threshold=s["threshold"], spectral=stats.spectral, channels=stats.channels,
-                      render_seconds=stats.render_seconds, rays=stats.rays)
+                      spectral_method=stats.spectral_method, render_seconds=stats.render_seconds, rays=stats.rays)
         if args.json:
             print(json.dumps(report))
         else:

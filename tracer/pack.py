@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bubbleoptics import band_spectral_weights, rgb_reflectance_basis, water_refractive_index
+from bubbleoptics import band_spectral_weights, point_sampling_limit_nm, rgb_reflectance_basis, water_refractive_index
 from bubbleoptics.colorimetry import XYZ_TO_LINEAR_SRGB
 
 from .bvh import build_bvh
@@ -20,7 +20,7 @@ from .films import FILM_DRAINING, FILM_MAP, FILM_UNIFORM, N_FILM_PARAMS
 from .geometry import origin_epsilon
 from .scene import Scene
 
-__all__ = ["Packed", "pack_scene", "channel_setup"]
+__all__ = ["Packed", "pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method"]
 
 _ENV_KINDS = {"constant": ENV_CONSTANT, "sky": ENV_SKY, "image": ENV_IMAGE}
 _FILM_KINDS = {"uniform": FILM_UNIFORM, "draining": FILM_DRAINING, "map": FILM_MAP}
@@ -127,18 +127,70 @@ def _convex_outward(vertices, faces, normals):
     return normals * flip[:, None] if convex else normals
 
 
-SPECTRAL_METHODS = ("point", "band")
+SPECTRAL_METHODS = ("auto", "point", "band")
 
 
-def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_method="point"):
+def film_thickness_bound_nm(film) -> float:
+    """An upper bound of a :class:`~tracer.scene.FilmProfile`'s thickness over the bubble, in nm.
+
+    Uniform: its thickness; draining: the larger of top and bottom (the profile runs between
+    them); map: the table's maximum (bilinear interpolation stays within it).  Swirl multiplies
+    the thickness by 1 + a·s/4 with s a sum of four sines, so by at most 1 + |a|.
+    """
+    if film.kind == "uniform":
+        base = float(film.thickness_nm)
+    elif film.kind == "draining":
+        base = max(float(film.top_nm), float(film.bottom_nm))
+    elif film.kind == "map":
+        base = float(np.max(film.table)) if film.table is not None and np.size(film.table) else 0.0
+    else:
+        raise ValueError(f"unknown film kind {film.kind!r}")
+    return max(base, 0.0) * (1.0 + abs(float(film.swirl)))
+
+
+#: ``spectral_method="auto"`` switches to band-averaged films when a film's fringe period at
+#: 400 nm can be shorter than this many bands (see :func:`resolve_spectral_method`).
+AUTO_FRINGE_BANDS = 1.5
+
+
+def resolve_spectral_method(scene: Scene, spectral_samples, spectral_method="auto"):
+    """The film method a render uses: ``"point"`` or ``"band"``; *spectral_method* ``"auto"`` decides.
+
+    ``"auto"`` chooses ``"band"`` (films averaged over each band) when some bubble's film can be
+    thicker than :func:`bubbleoptics.point_sampling_limit_nm` / :data:`AUTO_FRINGE_BANDS` for
+    *spectral_samples* bands (its index at 400 nm, normal incidence: the thinnest limit), i.e.
+    when its fringes at 400 nm can span fewer than 1.5 bands, and keeps ``"point"`` otherwise.
+    With 16 bands the switch is at 1.51 µm, inside the window the measurements leave
+    (water, normal incidence): from the Nyquist thickness, 1.13 µm, band means beat point
+    samples thickness by thickness, and from 1.72 µm point samples are grossly wrong (1 µm
+    running median of ΔE00 above 5, ``benchmarks/stability.py``); but on whole scenes with films
+    up to 1.43 µm point sampling measured more accurate and faster, because band means carry
+    their own error (the colour matching functions vary within a band) on the thin parts that
+    make up most of a bubble (``benchmarks/time_vs_error.py``: interior mean ΔE00 0.042 against
+    0.072 on six bubbles).
+    """
+    if spectral_method not in SPECTRAL_METHODS:
+        raise ValueError(f"spectral_method must be one of {SPECTRAL_METHODS} (got {spectral_method!r})")
+    if spectral_method != "auto":
+        return spectral_method
+    for b in scene.bubbles:
+        n400 = float(water_refractive_index(400.0)) if isinstance(b.n_film, str) else float(b.n_film)
+        limit = float(point_sampling_limit_nm(int(spectral_samples), 400.0, 0.0, n400)) / AUTO_FRINGE_BANDS
+        if film_thickness_bound_nm(b.film) > limit:
+            return "band"
+    return "point"
+
+
+def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_method="auto"):
     """Pack *scene*; spectral transport if it has bubbles (or *force_spectral* is True).
 
     *spectral_method*: ``"point"`` evaluates each bubble film at the band centres; ``"band"``
     uses each band's film averaged in closed form over the band
-    (:func:`bubbleoptics.kernels.film_band_average`), which does not alias on thick films.
+    (:func:`bubbleoptics.kernels.film_band_average`), which does not alias on thick films;
+    ``"auto"`` chooses between them (:func:`resolve_spectral_method`).  ``Packed.band_mode``
+    records the choice.
     """
-    if spectral_method not in SPECTRAL_METHODS:
-        raise ValueError(f"spectral_method must be one of {SPECTRAL_METHODS} (got {spectral_method!r})")
+    spectral_method = resolve_spectral_method(scene, spectral_samples, spectral_method)
     spectral = bool(scene.bubbles) if force_spectral is None else bool(force_spectral)
     wl, to_rgb, basis = channel_setup(spectral, spectral_samples)
     nc = basis.shape[0]

@@ -21,9 +21,11 @@ __all__ = ["render", "render_with_stats", "RenderStats", "save_image", "DEFAULTS
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
 #: mid-tones, so pruned branches cannot change a displayed pixel by more than about one step
 #: per pruned branch); 0 traces the seed's exhaustive tree.  ``spectral_samples``: 16 bands.
-#: Both are revisited by the run-time-against-error study (notebooks/04).
+#: Both are revisited by the run-time-against-error study (notebooks/04).  ``spectral_method``:
+#: ``"auto"`` evaluates films at the band centres unless a film is thick enough to alias there,
+#: then averages them over each band (:func:`tracer.pack.resolve_spectral_method`).
 DEFAULTS = dict(width=960, height=960, depth=10, spp=1, threshold=1e-3, spectral_samples=16, seed=0,
-                spectral_method="point")
+                spectral_method="auto")
 
 
 @dataclass
@@ -34,6 +36,7 @@ class RenderStats:
     rays: dict = field(default_factory=dict)
     spectral: bool = False
     channels: int = 3
+    spectral_method: str = ""  # "point" or "band" in spectral mode (what "auto" chose), "" in RGB
 
 
 def _check_int(name, value, minimum):
@@ -109,7 +112,8 @@ def render_with_stats(
     total = counts.sum(axis=0)
     rays = dict(camera=int(total[0]), reflected=int(total[1]), transmitted=int(total[2]), shadow=int(total[3]))
     rays["total"] = sum(rays.values())
-    return image, RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0])
+    method = ("band" if packed.band_mode else "point") if packed.spectral else ""
+    return image, RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0], method)
 
 
 def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=DEFAULTS["spp"],
@@ -124,8 +128,10 @@ def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=
     threshold : pruning threshold on a child ray's throughput (0 = exhaustive tree).
     spectral_samples : wavelength bands for spectral transport (used when the scene has bubbles,
         or when ``spectral=True``); ``spectral=False`` forces RGB transport.
-    spectral_method : ``"point"`` (films evaluated at the band centres) or ``"band"`` (each
-        band's film averaged over the band in closed form: no aliasing on thick films).
+    spectral_method : ``"point"`` (films evaluated at the band centres), ``"band"`` (each
+        band's film averaged over the band in closed form: no aliasing on thick films), or
+        ``"auto"`` (the default: ``"band"`` only when a film is thick enough for point samples to
+        alias, :func:`tracer.pack.resolve_spectral_method`).
     seed : random seed; the image depends on it but not on the thread count.
     progress : show a progress bar (default: when stderr is a terminal).
     """

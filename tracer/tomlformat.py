@@ -334,7 +334,7 @@ _FILM_KEYS = {
 }
 _RENDER_INT = {"width": 1, "height": 1, "depth": 1, "spp": 1, "spectral_samples": 1, "seed": 0}
 _RENDER_FLOAT = {"threshold": 0.0}
-_RENDER_CHOICE = {"spectral_method": ("point", "band")}
+_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band")}
 
 
 def parse_toml_text(text: str, path="<string>") -> Scene:
