@@ -437,6 +437,26 @@ def test_research_json(tmp_path, capsys):
     assert np.load(target).shape == (5, 6, 3)
 
 
+@pytest.mark.api
+def test_research_json_reports_the_spectral_method_auto_chose(tmp_path, capsys):
+    """--spectral-method auto (the default) resolves per scene: a thin bubble keeps point samples,
+    a 15-micron one gets band-averaged films; an explicit choice is reported as given."""
+    def method(scene_text, *extra):
+        scene = tmp_path / "s.toml"
+        scene.write_text(scene_text, encoding="utf-8")
+        status, out, err = run(["research", scene, tmp_path / "o.npy", "3", "--json", "--width", "4", "--height", "4",
+                                "--quiet", *extra], capsys)
+        assert (status, err) == (0, "")
+        return json.loads(out)["spectral_method"]
+
+    bubble = "[[bubbles]]\ncenter = [0, 0, 0]\nradius = 1\nfilm = {{ kind = \"uniform\", thickness_nm = {d} }}\n"
+    assert method(bubble.format(d=500)) == "point"
+    assert method(bubble.format(d=15000)) == "band"
+    assert method(bubble.format(d=15000), "--spectral-method", "point") == "point"
+    assert method(bubble.format(d=500), "--spectral-method", "band") == "band"
+    assert method("[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\n") == ""  # RGB transport: no film method
+
+
 def test_research_depth_1_traces_camera_rays_only(tmp_path, capsys):
     status, out, _ = run(["research", LISTING_3_2, tmp_path / "o.npy", "1", "--json", "--width", "6",
                           "--height", "5", "--quiet"], capsys)
