@@ -481,6 +481,14 @@ def bandlimited(dirs):
         out[f"LutNearDispMax{word}"] = significant(
             row("lut_nondispersive_n555_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
         out[f"BlWaterMax{word}"] = significant(row("bandlimited_water", theta, 16, order, "E")["dE00_max"], 2)
+        # the same after the exposure that makes the brightest film white
+        out[f"BlExposure{word}"] = significant(r16["exposure"], 2)
+        out[f"BlSixteenMaxExposed{word}"] = significant(r16["dE00_max_exposed"], 2)
+        out[f"BlEightMaxExposed{word}"] = significant(row("bandlimited", theta, 8, order)["dE00_max_exposed"], 2)
+        out[f"BlPointSixteenMaxExposed{word}"] = significant(row("point", theta, 16)["dE00_max_exposed"], 2)
+        out[f"GaussMaxExposed{word}"] = significant(gauss["dE00_max_exposed"], 2)
+        out[f"GaussThinMedianExposed{word}"] = significant(gauss["dE00_median_0_2um_exposed"], 2)
+        out[f"LutDispMaxExposed{word}"] = significant(lut["dE00_max_exposed"], 2)
     ns = lambda r: 0.5 * sum(row(*r[:1], t, *r[1:])["ns_per_colour"] for t in ANGLE_WORDS)  # noqa: E731
     out["BlNsSixteen"] = significant(ns(("bandlimited", 16, order)), 2)
     out["BlNsPointSixteen"] = significant(ns(("point", 16)), 2)
@@ -493,7 +501,9 @@ BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixte
     f"{what}{w}" for what in (
         "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenMedian", "BlSixteenThinMax", "BlPointSixteenMax",
         "BlPointSixteenThinMax", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
-        "GaussDispMax", "LutMax", "LutDispMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax")
+        "GaussDispMax", "LutMax", "LutDispMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax", "BlExposure",
+        "BlSixteenMaxExposed", "BlEightMaxExposed", "BlPointSixteenMaxExposed", "GaussMaxExposed",
+        "GaussThinMedianExposed", "LutDispMaxExposed")
     for w in ANGLE_WORDS.values()
 ]
 
