@@ -65,14 +65,61 @@ constant index, whatever its resolution; another table adds its own error, which
 offset the dispersion error at some thicknesses (the Gaussian fit's maximum at 60° is lower).
 
 What this is: the approach the project's issue attributes to Blender 5.0 ("its lookup table
-ignores dispersion"), rebuilt here; *not* Blender's table.  Blender's own, as read (not run, not
-copied) in blender/blender's source (``intern/cycles/doc/precompute/thin_film_table.py``,
-``intern/cycles/scene/shader.cpp``, ``intern/cycles/kernel/closure/bsdf_util.h``,
-``intern/cycles/kernel/util/lookup_table.h``; which release first shipped it was not checked),
-is coarser: the FFT of the CMFs spline-resampled in wavenumber, 512 complex entries every
-~18.7 nm of OPD up to ~9.55 µm (clamped beyond), converted to the working RGB space with its DC
-term normalized to 1, linearly interpolated, and the series stopped after m = 3.  It ignores
-dispersion in the same way.
+ignores dispersion"), rebuilt here with the exact integral; *not* Blender's table, which is coarser.
+
+``lut_blender_like`` (against the n = 1.33 reference: the table's own error) and
+``lut_blender_like_vs_dispersive`` (against the water reference): the same series with a table
+built like Blender's (:func:`blender_like_table`).  A reconstruction from the parameters of
+Blender's published source, not Blender run: the files were read in a stored code index (no code,
+data or text copied here), and the parameters reimplemented:
+
+* ``intern/cycles/doc/precompute/thin_film_table.py`` (blender/blender), the generator of the
+  table: the CIE 1931 2° CMFs at 1 nm over 360-830 nm, a zero added at 359 and at 831 nm, cubic
+  splines in wavelength (zero outside), sampled at N = 1022 wavenumbers nu_j = j pi/60 µm^-1
+  (0-53.5 µm^-1) with the weight cmf(1/nu) / nu^2, and Fourier-transformed (real FFT): 512
+  complex entries per channel, entry k at OPD = k / (N pi/60 µm^-1) = k x 18.69 nm, up to
+  9.55 µm.  Only 31 of the samples fall in 359-831 nm (one every 8 nm of wavelength at 400 nm,
+  16 nm at 555 nm, 26 nm at 700 nm), so the entries are a coarse Riemann sum of the integral.
+  The script's comment says the table covers 0-60 µm; sampled in 1/µm as it is, it reaches
+  9.55 µm (60 µm would hold for an angular wavenumber, 2 pi / lambda).
+* ``intern/cycles/kernel/closure/bsdf_util.h`` (the thin-film sensitivity lookup and Airy
+  summation) with ``intern/cycles/kernel/util/lookup_table.h`` (blender/blender): the table is read at
+  x = 2 pi OPD / 60 µm, clamped to [0, 1], times 511, linearly interpolated: the same nodes, and
+  the last entry held for every OPD beyond 9.55 µm; the series stops after m = 3; the film has one
+  index (no dispersion), OPD = 2 n d cos(theta_film).
+* ``intern/cycles/scene/shader.cpp`` (``compute_thin_film_table``): at start-up the XYZ entries are
+  taken to the working RGB (BT.709 without an OpenColorIO role) and each RGB channel divided by its
+  DC (OPD = 0) entry, so that a white film's RGB is (1, 1, 1).
+
+Here the CMFs are colour-science's (the same CIE table), the spline scipy's ``CubicSpline``, the
+entries the direct sum ``weights @ exp(-2 pi i OPD / lambda)`` at the nodes (:func:`lut_table`
+with ``samples``), checked at every run against NumPy's real FFT of the samples.  RGB or XYZ: the
+conversion, the linear interpolation of real and imaginary parts and the series are all linear,
+so evaluating in RGB and reading the result back in XYZ equals evaluating in XYZ with a table
+multiplied by one fixed matrix; the script does the RGB step literally anyway (BT.709 matrix of
+colour-science; back to XYZ by the matrix that takes RGB (1, 1, 1) to the reference's white under
+E, since a white film is (1, 1, 1) in Blender).  Its only effect is the per-channel normalization,
+a white correction of < 0.4 % (the spline-sampled CMFs' white differs from the reference's by
+about 1e-3 in XYZ).  Complex entries: the kernel weights each entry by the reflection phasor
+exp(i m phi) (real times real plus imaginary times imaginary); for this free-standing dielectric
+film the phasor is +1 in both polarizations, below and above Brewster's angle, so only the real
+part enters and the imaginary part, kept in the table, does not change these rows.
+
+Versions: two revisions of that kernel and start-up code were found.  One stores and interpolates
+each RGB channel's magnitude and unwrapped phase (entry = magnitude x cos(phase - m phi)); a later
+one, which also handles conductor substrates, stores and interpolates real and imaginary parts.
+The rows follow the later; the run prints the earlier's errors (``polar=True``, not a row).  Which
+release ships which was not checked: the project's issue says Blender 5.0, a third-party port of
+the later revision says it follows Blender 5.2 (Cycles 5.2.1); and the index did not name the
+repository of the ``shader.cpp`` and ``bsdf_util.h`` revisions that hold the thin film (found by
+their text; blender/blender's own stored copies under those paths predate it).  Not modelled (not
+parameters of the table): float32 storage; the kernel's clamp of the final RGB to [0, 1]; its
+blend of the film index towards the ambient one for very thin films (below 1 nm in the later
+revision: only d = 0 here, black either way; below 30 nm in the earlier).  The table's own error
+is largest on thin films (a few nm to a few hundred nm), where the linear interpolation over
+18.7 nm of OPD misses the curvature of S; the coarse CMF sampling and the held last value add a
+small error at every thickness (every film with OPD above 9.55 µm, d > 3.6 µm at normal
+incidence, gets the same held terms).
 
 Checked at every run (:func:`check_lut`): at thicknesses whose OPD falls on table nodes (where
 the interpolation is exact), the table's series equals the direct 1 nm integration of
@@ -85,7 +132,7 @@ rows.
 
 Times: wall time per colour (XYZ only, after a warm-up call), median and minimum of the repeats,
 numba kernels on all of this machine's cores; the Gaussian fit and the lookup table are plain
-NumPy (vectorized; the table's construction, about a second, is not included) and are timed for
+NumPy (vectorized; the tables' construction, about a second, is not included) and are timed for
 completeness only.
 """
 
@@ -128,9 +175,10 @@ def bb_sensitivity(opd_nm):
     return xyz / _BB_NORM
 
 
-def fourier_film_XYZ(d, theta, n_film, sensitivity):
+def fourier_film_XYZ(d, theta, n_film, sensitivity, n_terms=None):
     """XYZ (illuminant E) of a free-standing lossless film of constant index by its Fourier series in
-    OPD, each term's XYZ from ``sensitivity(OPD in nm) -> (..., 3)`` (``sensitivity(0)``: the white)."""
+    OPD, each term's XYZ from ``sensitivity(OPD in nm) -> (..., 3)`` (``sensitivity(0)``: the white).
+    The series runs to convergence (rho^m > 1e-17), or stops after *n_terms* terms m >= 1 if given."""
     import bubbleoptics as bo
 
     f = bo.fresnel_coefficients(1.0, n_film, theta)
@@ -141,7 +189,7 @@ def fourier_film_XYZ(d, theta, n_film, sensitivity):
         t_inc = (1.0 - rho) / (1.0 + rho)
         xyz = (1.0 - t_inc) * sensitivity(0.0) * np.ones_like(opd)[..., None]
         m = 1
-        while rho**m > 1e-17:
+        while rho**m > 1e-17 and (n_terms is None or m <= n_terms):
             xyz = xyz - 2.0 * t_inc * rho**m * sensitivity(m * opd)
             m += 1
         out = out + 0.5 * xyz
@@ -160,31 +208,103 @@ LUT_STEP_NM = 1.0
 LUT_MAX_OPD_NM = 64800.0
 
 
-def lut_table(step_nm=LUT_STEP_NM, max_opd_nm=LUT_MAX_OPD_NM):
+def lut_table(step_nm=LUT_STEP_NM, max_opd_nm=LUT_MAX_OPD_NM, samples=None):
     """(OPD nodes in nm (K,), S (K, 3)): S(OPD) = spectral_weights(WL, illuminant=None) @ cos(2 pi OPD / WL),
-    the exact sensitivity of the tabulated 1 nm CMFs under E (S(0): the perfect white, Y = 1)."""
-    import bubbleoptics as bo
-    from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM as WL
+    the exact sensitivity of the tabulated 1 nm CMFs under E (S(0): the perfect white, Y = 1).
 
-    W = bo.spectral_weights(WL, illuminant=None)  # (3, 421), the weights of the 1 nm reference
+    With *samples* = (wavelengths in nm (J,), weights (3, J)), the table is of those samples instead and
+    complex, S(OPD) = weights @ exp(-2 pi i OPD / wavelengths): its real part is the cosine sum above,
+    its imaginary part the sine sum that a film whose reflections shift the phase by other than 0 or pi
+    would need (:func:`blender_like_table` uses this)."""
+    if samples is None:
+        import bubbleoptics as bo
+        from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM as WL
+
+        W = bo.spectral_weights(WL, illuminant=None)  # (3, 421), the weights of the 1 nm reference
+    else:
+        WL, W = samples
     opd = step_nm * np.arange(int(np.floor(max_opd_nm / step_nm + 1e-9)) + 1)
     k = 2.0 * np.pi / WL
-    S = np.empty((opd.size, 3))
+    S = np.empty((opd.size, 3), float if samples is None else complex)
     for i in range(0, opd.size, 4096):
-        S[i : i + 4096] = np.cos(opd[i : i + 4096, None] * k) @ W.T
+        if samples is None:
+            S[i : i + 4096] = np.cos(opd[i : i + 4096, None] * k) @ W.T
+        else:
+            S[i : i + 4096] = np.exp(-1j * opd[i : i + 4096, None] * k) @ W.T
     return opd, S
 
 
-def lut_sensitivity(table, opd_nm):
-    """S(OPD) linearly interpolated in *table* (from :func:`lut_table`), 0 beyond its last node; (..., 3)."""
-    nodes, S = table
+def lut_sensitivity(table, opd_nm, hold_last=False, polar=False):
+    """S(OPD) linearly interpolated in *table* (from :func:`lut_table` or :func:`blender_like_table`), (..., 3).
+
+    Beyond the last node: 0, or the last node's value if *hold_last* (Blender's clamped lookup).  A
+    complex table is interpolated in its real and imaginary parts (or, if *polar*, in its magnitude and
+    unwrapped phase) and its real part returned: the term's weight for a reflection phasor of +1, which
+    is this film's (module docstring).  A table with a third element, a (3, 3) matrix, holds another
+    colour space's channels (Blender's working RGB); the matrix takes the interpolated values to XYZ."""
+    nodes, S = table[:2]
     x = np.asarray(opd_nm, float)
-    return np.stack([np.interp(x, nodes, S[:, c], right=0.0) for c in range(3)], axis=-1)
+
+    def interp(F):
+        return np.stack([np.interp(x, nodes, F[:, c], right=F[-1, c] if hold_last else 0.0) for c in range(3)],
+                        axis=-1)
+
+    if not np.iscomplexobj(S):
+        out = interp(S)
+    elif polar:
+        out = interp(np.abs(S)) * np.cos(interp(np.unwrap(np.angle(S), axis=0)))
+    else:
+        out = interp(S.real)  # the imaginary part, interpolated alike, is multiplied by Im(phasor^m) = 0
+    return out @ table[2].T if len(table) > 2 else out
 
 
-def lut_film_XYZ(d, theta, n_film, table):
-    """XYZ (illuminant E) of a free-standing lossless film by the Fourier series x the lookup table."""
-    return fourier_film_XYZ(d, theta, n_film, lambda opd: lut_sensitivity(table, opd))
+def lut_film_XYZ(d, theta, n_film, table, n_terms=None, hold_last=False, polar=False):
+    """XYZ (illuminant E) of a free-standing lossless film by the Fourier series x the lookup table
+    (*n_terms*: :func:`fourier_film_XYZ`; *hold_last*, *polar*: :func:`lut_sensitivity`)."""
+    return fourier_film_XYZ(d, theta, n_film, lambda opd: lut_sensitivity(table, opd, hold_last, polar),
+                            n_terms=n_terms)
+
+
+# The table rebuilt like Blender's (module docstring): the CIE 1931 2 deg CMFs (1 nm, 360-830 nm, a zero
+# added at 359 and at 831 nm) cubic-spline interpolated in wavelength, sampled at BLENDER_N_SAMPLES
+# wavenumbers nu_j = j * BLENDER_DNU_PER_UM (weight cmf(1/nu_j) / nu_j^2, the Jacobian d lambda / d nu),
+# Fourier-transformed (a real FFT: BLENDER_TABLE_SIZE complex entries, entry k at OPD = k / (N dnu), every
+# BLENDER_STEP_NM = 18.69 nm to BLENDER_MAX_OPD_NM = 9.549 um; the kernel reads it at x = 2 pi OPD / 60 um,
+# clamped to [0, 1], times 511: the same nodes), taken to the working RGB (BT.709) and each channel divided
+# by its DC entry; the kernel's series stops after BLENDER_TERMS terms.  Parameters only, read in
+# Blender's source (paths in the module docstring); no code or data copied.
+BLENDER_N_SAMPLES = 1022
+BLENDER_DNU_PER_UM = np.pi / 60.0
+BLENDER_TABLE_SIZE = BLENDER_N_SAMPLES // 2 + 1
+BLENDER_STEP_NM = 1000.0 / (BLENDER_N_SAMPLES * BLENDER_DNU_PER_UM)
+BLENDER_MAX_OPD_NM = (BLENDER_TABLE_SIZE - 1) * BLENDER_STEP_NM
+BLENDER_TERMS = 3
+
+
+def blender_like_table():
+    """(OPD nodes in nm (512,), S (512, 3) complex, in BT.709 RGB with S(0) = (1, 1, 1), RGB -> XYZ (3, 3)): the
+    lookup table rebuilt like Blender's (comment above), for :func:`lut_film_XYZ` with ``n_terms=BLENDER_TERMS,
+    hold_last=True``.  The RGB -> XYZ matrix takes RGB (1, 1, 1) to the reference's white under E (Y = 1), as
+    a white film's RGB is (1, 1, 1) in Blender whatever its CMFs.  Checked on construction: the entries equal
+    the real FFT of the samples (AssertionError otherwise)."""
+    import bubbleoptics as bo
+    import colour
+    from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM as WL
+    from scipy.interpolate import CubicSpline
+
+    cmfs = colour.MSDS_CMFS[OBSERVER]
+    lam = np.concatenate([[cmfs.wavelengths[0] - 1.0], cmfs.wavelengths, [cmfs.wavelengths[-1] + 1.0]])
+    spline = CubicSpline(lam, np.vstack([np.zeros(3), cmfs.values, np.zeros(3)]), extrapolate=False)
+    nu = BLENDER_DNU_PER_UM * np.arange(1, BLENDER_N_SAMPLES)  # 1/um; nu = 0 has weight 0
+    weights = np.nan_to_num(spline(1000.0 / nu)).T / nu**2  # (3, N - 1), 0 outside 359-831 nm
+    nodes, S = lut_table(BLENDER_STEP_NM, BLENDER_MAX_OPD_NM, samples=(1000.0 / nu, weights))
+    fft = np.fft.rfft(np.hstack([np.zeros((3, 1)), weights]), axis=1).T
+    if nodes.size != BLENDER_TABLE_SIZE or not np.allclose(S, fft, rtol=0.0, atol=1e-9 * np.abs(fft).max()):
+        raise AssertionError(f"Blender-like table: {nodes.size} nodes, max |table - FFT| {np.abs(S - fft).max():.1e}")
+    M = colour.models.RGB_COLOURSPACE_BT709.matrix_XYZ_to_RGB
+    rgb = S @ M.T
+    white = bo.spectral_weights(WL, illuminant=None).sum(axis=1)  # the reference's white under E, Y = 1
+    return nodes, rgb / rgb[0].real, np.linalg.inv(M) @ np.diag(M @ white)
 
 
 def check_lut(table, n_film=1.33, max_thickness_nm=20000.0, tol_thin=1e-11, tol_all=1e-5, every=37):
@@ -263,13 +383,18 @@ def main(argv=None):
         k = 1.0 / XYZ[d <= 1000.0, 1].max()
         return dict(lab=lab(XYZ, ill), lab_exposed=lab(k * XYZ, ill), exposure=k)
 
-    def record(method, n_bands, order, ill, theta_deg, XYZ, ref, seconds, note=""):
-        t_med, t_min = seconds
+    def dE00(XYZ, ref, ill):
+        """Per-thickness CIEDE2000 against *ref*, as reflected and after the reference's exposure."""
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             e = np.asarray(colour.delta_E(lab(XYZ, ill), ref["lab"], method="CIE 2000"))
             e_exp = np.asarray(colour.delta_E(lab(ref["exposure"] * XYZ, ill), ref["lab_exposed"],
                                               method="CIE 2000"))
+        return e, e_exp
+
+    def record(method, n_bands, order, ill, theta_deg, XYZ, ref, seconds, note=""):
+        t_med, t_min = seconds
+        e, e_exp = dE00(XYZ, ref, ill)
         rows.append(
             dict(
                 method=method,
@@ -347,6 +472,14 @@ def main(argv=None):
           f"{np.abs(S[tail]).max():.1e}; check against the direct 1 nm integration at table nodes, max |dXYZ| "
           + ", ".join(f"{k:g} deg: {a:.1e} (<= 2 um), {b:.1e} (<= 20 um)" for k, (a, b) in checked.items()),
           flush=True)
+    bl_table = blender_like_table()
+    bl_nodes, bl_S, bl_to_xyz = bl_table
+    bl_S0_xyz = bl_S[0].real @ bl_to_xyz.T
+    print(f"Blender-like table: {bl_nodes.size} complex entries every {BLENDER_STEP_NM:.3f} nm of OPD to "
+          f"{bl_nodes[-1]:.0f} nm (value held beyond), series stopped after m = {BLENDER_TERMS}; S(0) in XYZ "
+          f"{np.array2string(bl_S0_xyz, precision=6)}; held value in XYZ "
+          f"{np.array2string(bl_S[-1].real @ bl_to_xyz.T, precision=5)}; |Re S - exact S| at its nodes, max "
+          f"{np.abs(bl_S.real @ bl_to_xyz.T - lut_sensitivity(table, bl_nodes)).max():.1e}", flush=True)
     n_555 = float(bo.water_refractive_index(555.0))
     lut_note = (f"n=1.33; NumPy; exact 1 nm S(OPD) every {LUT_STEP_NM:g} nm to {nodes[-1] / 1000:g} um; "
                 "linear interpolation")
@@ -371,6 +504,23 @@ def main(argv=None):
                "n=1.33 against the water reference")
         record("lut_nondispersive_n555_vs_dispersive", "", "", "E", theta_deg, lut_film_XYZ(d, th, n_555, table),
                ref_water, t, f"n={n_555:.4f} (water at 555 nm) against the water reference")
+
+        def blender_like(polar=False):
+            return lut_film_XYZ(d, th, n_const, bl_table, n_terms=BLENDER_TERMS, hold_last=True, polar=polar)
+
+        bl = blender_like()
+        t = timed(blender_like, args.repeats)
+        record("lut_blender_like", "", "", "E", theta_deg, bl, ref_const, t,
+               f"n=1.33; NumPy; like Blender's table (rebuilt from its source): {bl_nodes.size} complex entries "
+               f"every {BLENDER_STEP_NM:.1f} nm to {bl_nodes[-1] / 1000:.2f} um, last held; "
+               f"m <= {BLENDER_TERMS}; RGB per-channel DC normalization")
+        record("lut_blender_like_vs_dispersive", "", "", "E", theta_deg, bl, ref_water, t,
+               "n=1.33 against the water reference")
+        # Not a row: the earlier revision's interpolation in magnitude and unwrapped phase (module docstring)
+        e_polar, e_polar_exp = dE00(blender_like(polar=True), ref_const, "E")
+        print(f"{'  (magnitude/phase interpolation)':36s} {theta_deg:4.0f}°  median {np.median(e_polar):6.3f}  "
+              f"max {e_polar.max():6.3f} (at {d[int(np.argmax(e_polar))]:7.0f} nm)  max exposed "
+              f"{e_polar_exp.max():6.3f}", flush=True)
 
         def ours_water():
             return film_XYZ_bandlimited(d, th, 16, illuminant=None, order=3)
