@@ -489,6 +489,9 @@ def bandlimited(dirs):
         out[f"GaussMaxExposed{word}"] = significant(gauss["dE00_max_exposed"], 2)
         out[f"GaussThinMedianExposed{word}"] = significant(gauss["dE00_median_0_2um_exposed"], 2)
         out[f"LutDispMaxExposed{word}"] = significant(lut["dE00_max_exposed"], 2)
+        out[f"LutBlenderMax{word}"] = significant(row("lut_blender_like", theta, illuminant="E")["dE00_max"], 2)
+        out[f"LutBlenderDispMax{word}"] = significant(
+            row("lut_blender_like_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
     ns = lambda r: 0.5 * sum(row(*r[:1], t, *r[1:])["ns_per_colour"] for t in ANGLE_WORDS)  # noqa: E731
     out["BlNsSixteen"] = significant(ns(("bandlimited", 16, order)), 2)
     out["BlNsPointSixteen"] = significant(ns(("point", 16)), 2)
@@ -503,7 +506,7 @@ BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixte
         "BlPointSixteenThinMax", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
         "GaussDispMax", "LutMax", "LutDispMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax", "BlExposure",
         "BlSixteenMaxExposed", "BlEightMaxExposed", "BlPointSixteenMaxExposed", "GaussMaxExposed",
-        "GaussThinMedianExposed", "LutDispMaxExposed")
+        "GaussThinMedianExposed", "LutDispMaxExposed", "LutBlenderMax", "LutBlenderDispMax")
     for w in ANGLE_WORDS.values()
 ]
 
