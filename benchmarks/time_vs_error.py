@@ -56,7 +56,6 @@ within that noise of the fastest.
 from __future__ import annotations
 
 import argparse
-import csv
 import datetime
 import inspect
 import json
@@ -69,11 +68,8 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    from _results import write_csv as write_results_csv
-except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
-    sys.path.append(str(Path(__file__).resolve().parent))
-    from _results import write_csv as write_results_csv
+sys.path.append(str(Path(__file__).resolve().parent))  # for scripts loaded by file path (notebooks)
+from _results import write_csv as write_results_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DERIVED = ROOT / "data" / "derived"
@@ -467,10 +463,11 @@ _TEXT = ("scene", "factor", "value", "transport", "spectral_method", "seconds_ru
 
 def read_csv(path=OUT_CSV):
     """(notes, rows) of a CSV written by :func:`write_csv`; numbers as float (NaN when empty)."""
-    lines = Path(path).read_text(encoding="utf-8").splitlines()
-    notes = [ln[1:].strip() for ln in lines if ln.startswith("#")]
+    from tracer.study import read_commented_csv
+
+    notes, raw = read_commented_csv(path)
     rows = []
-    for r in csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")):
+    for r in raw:
         rows.append({k: (v if k in _TEXT else (float(v) if v != "" else math.nan)) for k, v in r.items()})
     return notes, rows
 

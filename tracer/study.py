@@ -37,6 +37,7 @@ import numpy as np
 
 __all__ = [
     "SEED_COLUMNS",
+    "read_commented_csv",
     "load_seed_table",
     "load_timing",
     "timing_series",
@@ -67,8 +68,9 @@ _MODES = ("pruned", "exhaustive")
 # data
 
 
-def _read_commented_csv(path):
-    """(comment lines without '# ', rows as dicts) of a CSV whose leading lines start with '#'."""
+def read_commented_csv(path):
+    """(comment lines without '# ', rows as dicts of strings) of a CSV whose leading lines start
+    with '#': the provenance comment every benchmark writes (``benchmarks/_results.py``)."""
     lines = Path(path).read_text(encoding="utf-8").splitlines()
     notes = [ln.lstrip("#").strip() for ln in lines if ln.startswith("#")]
     rows = list(csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")))
@@ -98,7 +100,7 @@ def load_seed_table(path=None):
     >>> seed["depth"].tolist()[:3], float(seed["seconds"][3][-1])
     ([1, 2, 3], 1889.56)
     """
-    notes, rows = _read_commented_csv(_SEED_TABLE if path is None else path)
+    notes, rows = read_commented_csv(_SEED_TABLE if path is None else path)
     depth = np.array([int(r["depth"]) for r in rows])
     order = np.argsort(depth)
     seconds = {nb: np.array([float(r[col]) for r in rows])[order] for nb, col in SEED_COLUMNS.items()}
@@ -138,7 +140,7 @@ def load_timing(path=None):
     >>> sorted(set(timing["mode"].tolist()))
     ['exhaustive', 'pruned']
     """
-    notes, rows = _read_commented_csv(_TIMING if path is None else path)
+    notes, rows = read_commented_csv(_TIMING if path is None else path)
     main = [r for r in rows if r["mode"] in _MODES]
     extra = [r for r in rows if r["mode"] not in _MODES]
     if not main:

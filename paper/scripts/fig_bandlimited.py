@@ -31,7 +31,6 @@ error unless it agrees with the CSV's ``dE00_max`` for the same method within 5 
 401 thicknesses, no check (the grid differs).
 """
 
-import csv
 import sys
 import warnings
 
@@ -39,6 +38,7 @@ import numpy as np
 
 import paths
 import style
+from tracer.study import read_commented_csv
 
 sys.path.insert(0, str(paths.ROOT / "benchmarks"))
 import bandlimited_colour as bench  # noqa: E402  (benchmarks/ is not a package)
@@ -57,8 +57,7 @@ def read_csv(path):
     """Rows of a benchmark CSV as dicts, its '#' comment lines dropped."""
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/bandlimited_colour.py first")
-    lines = [ln for ln in path.read_text(encoding="utf-8").splitlines() if ln.strip() and not ln.startswith("#")]
-    return list(csv.DictReader(lines))
+    return read_commented_csv(path)[1]
 
 
 def csv_max(rows, method, theta_deg, illuminant, n_bands="", order=""):

@@ -15,13 +15,13 @@ neither curve can go against the other's reference.  Quick mode draws the same f
 reads the table).
 """
 
-import csv
 import sys
 
 import numpy as np
 
 import paths
 import style
+from tracer.study import read_commented_csv
 
 PEER = paths.DERIVED / "peer_mitsuba.csv"
 
@@ -41,9 +41,7 @@ def read_rows(path):
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/peer_mitsuba.py first "
                          "(needs pip install mitsuba, and libllvm19 for its LLVM variant)")
-    lines = path.read_text(encoding="utf-8").splitlines()
-    notes = [ln.lstrip("#").strip() for ln in lines if ln.startswith("#")]
-    rows = list(csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")))
+    notes, rows = read_commented_csv(path)
     if not rows:
         raise SystemExit(f"{path} has no rows: run python benchmarks/peer_mitsuba.py again")
     return notes, rows

@@ -16,7 +16,6 @@ reference's time; shaded: the target (mean ΔE00 <= 0.5, at least 20x faster tha
 reference).  Quick mode draws the same figure (it only reads the file).
 """
 
-import csv
 import math
 import sys
 
@@ -24,7 +23,7 @@ import numpy as np
 
 import paths
 import style
-from tracer.study import pareto_front
+from tracer.study import pareto_front, read_commented_csv
 
 CSV = paths.DERIVED / "time_vs_error.csv"
 SCENES = {"builtin": "built-in scene", "bubbles": "six bubbles", "materials": "bubble and spheres"}
@@ -46,9 +45,8 @@ GROUPS = {
 def read_rows(path):
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/time_vs_error.py first")
-    lines = [ln for ln in path.read_text(encoding="utf-8").splitlines() if ln.strip() and not ln.startswith("#")]
     rows = []
-    for r in csv.DictReader(lines):
+    for r in read_commented_csv(path)[1]:
         for k in ("seconds", "mean_de00", "interior_mean_de00", "speedup_vs_reference", "is_default",
                   "spectral_samples", "threshold", "spp", "depth"):
             r[k] = float(r[k]) if r[k] != "" else math.nan

@@ -44,7 +44,6 @@ in mathematics).  Macro names are letters only (TeX control words).
 from __future__ import annotations
 
 import argparse
-import csv
 import inspect
 import math
 import os
@@ -61,6 +60,7 @@ try:  # the figure scripts' one paths module, when it is there
 except ImportError:  # pragma: no cover - paths.py is part of the paper's scripts
     ROOT = HERE.parents[1]
 
+sys.path.append(str(ROOT / "benchmarks"))  # sections that reuse a benchmark's own analysis import it
 DATA = ROOT / "data"
 OUT = ROOT / "paper" / "numbers.tex"
 NA = r"\NumberNA{}"
@@ -131,10 +131,11 @@ def _sci_or_plain(x: float, n: int = 2) -> str:
 # inputs
 # ------------------------------------------------------------------------------------------
 def read_commented_csv(path):
-    """(header comments, rows as dicts) of a CSV whose leading lines may start with '#'."""
-    lines = Path(path).read_text(encoding="utf-8").splitlines()
-    notes = [ln.lstrip("#").strip() for ln in lines if ln.startswith("#")]
-    rows = list(csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")))
+    """(header comments, rows as dicts) of a benchmark's CSV (:func:`tracer.study.read_commented_csv`);
+    a file without rows is an error."""
+    from tracer.study import read_commented_csv as read
+
+    notes, rows = read(path)
     if not rows:
         raise ValueError(f"{path}: no rows")
     return notes, rows
@@ -566,7 +567,6 @@ def timeerror(dirs):
     out["TvESpeedupMin"] = significant(min(speedup), 3)
     out["TvEDefaultsOnFront"] = "1" if all(on_front) else "0"
     # the benchmark's own rule (notebook 04): dominated only beyond the timing noise counts
-    sys.path.insert(0, str(ROOT / "benchmarks"))
     import time_vs_error as bench
 
     verdict = bench.assess(bench.read_csv(path)[1], "interior_mean_de00")
@@ -597,7 +597,6 @@ PEER_CURVES = {
 def peer(dirs):
     """Mitsuba 3 against our tracer (``benchmarks/peer_mitsuba.py``): time to the error ours
     reaches at 4 spp, by the benchmark's own log-log interpolation (``time_at_error``)."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
     from peer_mitsuba import time_at_error
 
     notes, rows = read_commented_csv(dirs["derived"] / "peer_mitsuba.csv")
