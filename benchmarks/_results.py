@@ -1,12 +1,14 @@
-"""The one writer of the benchmarks' result CSVs (``data/derived/*.csv``).
+"""What the benchmark scripts share: the one writer of their result CSVs (``data/derived/*.csv``)
+and the one timing loop (:func:`wall_times`).
 
 Every benchmark script writes its table through :func:`write_csv`: atomically (a temporary file
 in the same directory, then :func:`os.replace`, so a reader never sees half a file and an
 interrupted run leaves the previous file intact), with the provenance comment line(s) first
 (``# written by benchmarks/x.py on <date> ...``), then a ``csv.DictWriter`` header and the rows.
 
-Readers (``paper/scripts/make_numbers.py``, ``tracer.study``, ``paper/scripts/fig_*.py``, the
-notebooks) drop the lines starting with ``#`` and hand the rest to ``csv.DictReader``; the
+Readers (``paper/scripts/make_numbers.py``, ``paper/scripts/fig_*.py``, the notebooks) go through
+:func:`tracer.study.read_commented_csv`, which drops the lines starting with ``#`` and hands the
+rest to ``csv.DictReader``; the
 exceptions, ``paper/scripts/fig_stability.py`` and ``benchmarks/stability.py``'s ``read_csv``,
 take the first line as the header, so the stability files are written without a comment.
 
@@ -16,16 +18,30 @@ and rows in *lineterminator* (``\\r\\n``, the :mod:`csv` default, unless a scrip
 ``\\n``).
 
 Scripts run as ``python benchmarks/x.py`` have ``benchmarks/`` on ``sys.path``; scripts loaded
-by file path (the notebooks' ``load_by_path``) import this module through the fallback at the
-top of each script, which appends ``benchmarks/`` to ``sys.path``.
+by file path (the notebooks' ``load_by_path``) do not, so each script appends it before importing
+this module.
 """
 
 import csv
 import math
 import os
+import time
 from pathlib import Path
 
-__all__ = ["write_csv"]
+__all__ = ["write_csv", "wall_times"]
+
+
+def wall_times(func, repeats, warmup=1):
+    """Wall times (s, :func:`time.perf_counter`) of *repeats* calls of *func*, after *warmup*
+    untimed calls (compilation, thread pools, page faults)."""
+    for _ in range(warmup):
+        func()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        func()
+        times.append(time.perf_counter() - t0)
+    return times
 
 
 def _formatter(float_format, na_rep):

@@ -147,11 +147,8 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    from _results import write_csv
-except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
-    sys.path.append(str(Path(__file__).resolve().parent))
-    from _results import write_csv
+sys.path.append(str(Path(__file__).resolve().parent))  # for scripts loaded by file path (notebooks)
+from _results import wall_times, write_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "bandlimited_colour.csv"
@@ -344,12 +341,7 @@ def timed(func, repeats):
 
     The minimum is the one to compare on a shared machine (the others' load only adds time).
     """
-    func()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
+    times = wall_times(func, repeats)
     return float(np.median(times)), float(np.min(times))
 
 

@@ -27,11 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    from _results import write_csv
-except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
-    sys.path.append(str(Path(__file__).resolve().parent))
-    from _results import write_csv
+sys.path.append(str(Path(__file__).resolve().parent))  # for scripts loaded by file path (notebooks)
+from _results import wall_times, write_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "optics_speed.csv"
@@ -39,13 +36,7 @@ OUT = ROOT / "data" / "derived" / "optics_speed.csv"
 
 def median_time(func, repeats, warmup=3):
     """Median wall time of *repeats* calls after *warmup* untimed ones (thread pools, page faults)."""
-    for _ in range(warmup):
-        func()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
+    times = wall_times(func, repeats, warmup)
     return float(np.median(times)), times
 
 

@@ -39,11 +39,8 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    from _results import write_csv as write_results_csv
-except ModuleNotFoundError:  # loaded by file path, not run as a script: benchmarks/ is not on sys.path
-    sys.path.append(str(Path(__file__).resolve().parent))
-    from _results import write_csv as write_results_csv
+sys.path.append(str(Path(__file__).resolve().parent))  # for scripts loaded by file path (notebooks)
+from _results import write_csv as write_results_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DERIVED = ROOT / "data" / "derived"
