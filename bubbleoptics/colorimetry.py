@@ -3,12 +3,22 @@
 Colour matching functions, illuminants, the sRGB encoding and chromatic adaptation all come
 from colour-science; this module only precomputes colour-science's *Integration* method as a
 matrix, so that many spectra convert with one matrix product, and applies it to film spectra.
+
+Start-up: importing colour-science takes one to several seconds (it pulls in scipy), which a
+render would pay before its first ray.  So colour-science is imported only inside the
+functions that need its general machinery (any illuminant or observer, chromatic adaptation),
+and what the ray tracer needs is read from ``colour_tables.npz`` beside this file: the 1 nm
+CIE 1931 2° x D65 weights, the Mallett-Yuksel basis and the dominant wavelengths of the sRGB
+primaries, each computed by colour-science
+(:mod:`bubbleoptics.colour_tables` writes the file, ``python -m bubbleoptics.colour_tables``;
+a reference test recomputes it).  The sRGB transfer functions are written here for the same
+reason (:func:`linear_srgb_to_srgb`, :func:`srgb_to_linear_srgb`).
 """
 
 import functools
+import os
 import warnings
 
-import colour
 import numpy as np
 
 from . import _args
@@ -21,6 +31,11 @@ __all__ = [
     "band_spectral_weights",
     "rgb_reflectance_basis",
     "XYZ_TO_LINEAR_SRGB",
+    "COLOUR_TABLES_PATH",
+    "colour_tables",
+    "srgb_dominant_wavelengths",
+    "linear_srgb_to_srgb",
+    "srgb_to_linear_srgb",
     "spectrum_to_XYZ",
     "XYZ_to_display_sRGB",
     "film_color",
@@ -31,8 +46,35 @@ DEFAULT_OBSERVER = "CIE 1931 2 Degree Standard Observer"
 #: colour-science's default spectral shape (360-780 nm at 1 nm): the "1 nm reference".
 DEFAULT_WAVELENGTHS_NM = np.arange(360.0, 781.0, 1.0)
 
+_DEFAULT_GRID = tuple(DEFAULT_WAVELENGTHS_NM.tolist())
+
+#: colour-science's results that the tracer needs, tabulated (see the module docstring).
+COLOUR_TABLES_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "colour_tables.npz")
+
+
+@functools.cache
+def colour_tables() -> dict:
+    """The arrays of ``colour_tables.npz`` (read-only), read once.
+
+    ``wavelengths_nm`` (421,): :data:`DEFAULT_WAVELENGTHS_NM`; ``xyz_weights_d65`` (3, 421):
+    :func:`spectral_weights` of that grid under D65 for the CIE 1931 2° observer;
+    ``rgb_basis_mallett2019`` (421, 3): the Mallett-Yuksel basis on that grid;
+    ``srgb_dominant_wavelengths_nm`` (3,); ``colour_science_version``: the version that
+    computed them.
+    """
+    with np.load(COLOUR_TABLES_PATH, allow_pickle=False) as f:
+        tables = {key: f[key] for key in f.files}
+    for arr in tables.values():
+        arr.flags.writeable = False
+    if not np.array_equal(tables["wavelengths_nm"], DEFAULT_WAVELENGTHS_NM):
+        raise RuntimeError(f"{COLOUR_TABLES_PATH} is not on DEFAULT_WAVELENGTHS_NM: regenerate it"
+                           " with python -m bubbleoptics.colour_tables")
+    return tables
+
 
 def _resolve_illuminant(illuminant):
+    import colour
+
     if illuminant is None or isinstance(illuminant, colour.SpectralDistribution):
         return illuminant
     try:
@@ -45,6 +87,8 @@ def _resolve_illuminant(illuminant):
 
 
 def _resolve_observer(observer):
+    import colour
+
     try:
         return colour.MSDS_CMFS[observer]
     except KeyError:
@@ -55,10 +99,15 @@ def _resolve_observer(observer):
 
 @functools.lru_cache(maxsize=32)
 def _weights_cached(wavelengths, illuminant, observer):
+    if (illuminant, observer) == ("D65", DEFAULT_OBSERVER) and wavelengths == _DEFAULT_GRID:
+        return colour_tables()["xyz_weights_d65"]
     return _weights(np.array(wavelengths), illuminant, observer)
 
 
 def _weights(wl, illuminant, observer):
+    """colour-science's Integration method as a (3, N) matrix (imports colour-science)."""
+    import colour
+
     cmfs = _resolve_observer(observer)
     sd_illuminant = _resolve_illuminant(illuminant)
     # colour-science's Integration method is linear in the spectrum (interpolation onto the CMF
@@ -89,13 +138,16 @@ def spectral_weights(wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER
         ``colour.SpectralDistribution``, or ``None`` for the equal-energy illuminant E (use it for
         spectra that are already radiances).
     observer : name in ``colour.MSDS_CMFS``.
+
+    The default case (:data:`DEFAULT_WAVELENGTHS_NM`, D65, CIE 1931 2°) is read from
+    :func:`colour_tables` without importing colour-science.
     """
     wl = _args.real_array("wavelengths_nm", wavelengths_nm, minimum=0.0, strict=True)
     if wl.ndim != 1 or wl.size < 2:
         raise ValueError(f"wavelengths_nm must be 1-D with at least 2 samples (got shape {wl.shape})")
     if np.any(np.diff(wl) <= 0):
         raise ValueError("wavelengths_nm must be strictly increasing")
-    if isinstance(illuminant, colour.SpectralDistribution):
+    if not isinstance(illuminant, (str, type(None))):  # a SpectralDistribution: not cached
         return _weights(wl, illuminant, observer)
     return _weights_cached(tuple(wl.tolist()), illuminant, observer)
 
@@ -140,13 +192,19 @@ def rgb_reflectance_basis(n_bands, lo_nm=360.0, hi_nm=780.0):
     every wavelength, so white stays flat, and every in-gamut colour maps to a spectrum within
     [0, 1] that reproduces it under D65 (L. Mallett and C. Yuksel, "Spectral Primary
     Decomposition for Rendering with sRGB Reflectance", EGSR 2019).  Extrapolated as constant
-    outside 380-780 nm, as colour-science does.
+    outside 380-780 nm, as colour-science does.  The basis on :data:`DEFAULT_WAVELENGTHS_NM`
+    (colour-science's ``align`` to 360-780 nm at 1 nm, Sprague interpolation) is read from
+    :func:`colour_tables`; aligning to a narrower range gives the same values at each
+    wavelength, so the range is cut from it.
+
+    >>> from bubbleoptics import rgb_reflectance_basis
+    >>> basis = rgb_reflectance_basis(16)
+    >>> basis.shape, bool(abs(basis.sum(axis=1) - 1).max() < 1e-5)  # white stays flat
+    ((16, 3), True)
     """
-    basis = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
-    fine = DEFAULT_WAVELENGTHS_NM[(DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        b = basis.copy().align(colour.SpectralShape(fine[0], fine[-1], 1.0)).values
+    inside_range = (DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)
+    fine = DEFAULT_WAVELENGTHS_NM[inside_range]
+    b = colour_tables()["rgb_basis_mallett2019"][inside_range]
     edges = np.linspace(lo_nm, hi_nm, n_bands + 1)
     out = np.empty((n_bands, 3))
     for k in range(n_bands):
@@ -155,8 +213,74 @@ def rgb_reflectance_basis(n_bands, lo_nm=360.0, hi_nm=780.0):
     return out
 
 
-#: Linear sRGB from CIE XYZ (IEC 61966-2-1, D65 white; colour-science's matrix).
-XYZ_TO_LINEAR_SRGB = np.array(colour.RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB, dtype=float)
+#: Linear sRGB from CIE XYZ, D65 white: the matrix as IEC 61966-2-1:1999 publishes it (four
+#: decimals), which is colour-science's ``RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB``
+#: (tests/test_colorimetry.py checks that they are equal).
+XYZ_TO_LINEAR_SRGB = np.array([[3.2406, -1.5372, -0.4986],
+                               [-0.9689, 1.8758, 0.0415],
+                               [0.0557, -0.2040, 1.0570]])
+XYZ_TO_LINEAR_SRGB.flags.writeable = False
+
+
+def srgb_dominant_wavelengths():
+    """Dominant wavelengths (nm) of the sRGB red, green and blue primaries, (3,).
+
+    colour-science's ``dominant_wavelength`` of each primary's chromaticity against the D65
+    white point (CIE 1931 2°), which it rounds to the 1 nm samples of the spectral locus; read
+    from :func:`colour_tables`.
+
+    >>> from bubbleoptics.colorimetry import srgb_dominant_wavelengths
+    >>> srgb_dominant_wavelengths().tolist()
+    [611.0, 549.0, 464.0]
+    """
+    return colour_tables()["srgb_dominant_wavelengths_nm"].copy()
+
+
+# The sRGB transfer functions (IEC 61966-2-1:1999), written here rather than called from
+# colour-science (colour.cctf_encoding / cctf_decoding with function="sRGB") only because
+# importing colour-science costs a render one to several seconds of start-up for two lines of
+# arithmetic.  They follow colour-science's eotf_inverse_sRGB and eotf_sRGB operation for
+# operation, so the results are identical to the bit (tests/test_colorimetry.py checks it).
+_SRGB_LINEAR_BELOW = 0.0031308  # linear-light value where the curve turns from linear to power
+_SRGB_ENCODED_BELOW = _SRGB_LINEAR_BELOW * 12.92  # the same point encoded (0.040449936)
+
+
+def linear_srgb_to_srgb(x):
+    """The sRGB encoding (IEC 61966-2-1:1999): linear-light values to display sRGB.
+
+    .. math::  V = 12.92\\,L \\ (L \\le 0.0031308), \\qquad V = 1.055\\,L^{1/2.4} - 0.055
+
+    Elementwise on any array; values outside [0, 1] are not clipped (negative values stay on
+    the linear segment), NaN gives NaN.  Equal to the bit to
+    ``colour.cctf_encoding(x, function="sRGB")``; written here only so that a render need not
+    import colour-science (start-up time, see the comment above).
+
+    >>> from bubbleoptics.colorimetry import linear_srgb_to_srgb
+    >>> round(float(linear_srgb_to_srgb(0.18)), 7)
+    0.4613561
+    """
+    x = np.asarray(x, dtype=float)
+    power = 1.055 * np.maximum(x, _SRGB_LINEAR_BELOW) ** (1 / 2.4) - 0.055
+    return np.where(x <= _SRGB_LINEAR_BELOW, x * 12.92, power)[()]
+
+
+def srgb_to_linear_srgb(v):
+    """The sRGB decoding (IEC 61966-2-1:1999): display sRGB values to linear light.
+
+    .. math::  L = V/12.92 \\ (V \\le 0.0031308 \\cdot 12.92), \\qquad L = ((V + 0.055)/1.055)^{2.4}
+
+    The inverse of :func:`linear_srgb_to_srgb`; the break point is the encoded 0.0031308, as in
+    colour-science (the standard rounds it to 0.04045; no 8- or 16-bit code lies between the
+    two).  Equal to the bit to ``colour.cctf_decoding(v, function="sRGB")``.  An 8-bit code
+    ``c`` decodes as ``srgb_to_linear_srgb(c / 255)``.
+
+    >>> from bubbleoptics.colorimetry import srgb_to_linear_srgb
+    >>> round(float(srgb_to_linear_srgb(128 / 255)), 6)
+    0.215861
+    """
+    v = np.asarray(v, dtype=float)
+    power = ((np.maximum(v, _SRGB_ENCODED_BELOW) + 0.055) / 1.055) ** 2.4
+    return np.where(v <= _SRGB_ENCODED_BELOW, v / 12.92, power)[()]
 
 
 def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER):
@@ -198,6 +322,8 @@ def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_O
 
 
 def _whitepoint_xy(illuminant, observer, wl):
+    import colour
+
     if isinstance(illuminant, str):
         ccs = colour.CCS_ILLUMINANTS.get(observer, {})
         if illuminant in ccs:
@@ -219,6 +345,8 @@ def XYZ_to_display_sRGB(XYZ, illuminant="D65", observer=DEFAULT_OBSERVER, gamut=
     """
     if gamut not in ("clip", "none"):
         raise ValueError(f"gamut must be 'clip' or 'none' (got {gamut!r})")
+    import colour
+
     XYZ = np.asarray(XYZ, dtype=float)
     wp = _whitepoint_xy(illuminant, observer, DEFAULT_WAVELENGTHS_NM)
     rgb = colour.XYZ_to_sRGB(XYZ, illuminant=wp, apply_cctf_encoding=False)

@@ -1,4 +1,4 @@
-"""Colour: spectrum_to_XYZ and film_color against colour-science, the independent reference."""
+"""Colour: spectrum_to_XYZ, film_color, the shipped colour tables and the sRGB curve against colour-science."""
 
 import warnings
 
@@ -149,3 +149,99 @@ def test_water_dispersion_matters_at_oblique_incidence():
     assert np.max(np.abs(ours[:, 0] - theirs[:, 0])) < 1e-12  # normal incidence: no angle, agree
     assert np.max(np.abs(ours[0] - theirs[0])) < 1e-12  # first wavelength: its own angle, agree
     assert np.max(np.abs(ours - theirs)) > 1e-3  # oblique, other wavelengths: they differ
+
+
+# ------------------------------------------------------------------------------------------
+# What a render uses without importing colour-science: the shipped tables and the sRGB curve
+# ------------------------------------------------------------------------------------------
+@pytest.mark.reference
+def test_shipped_colour_tables_are_what_colour_science_computes():
+    """colour_tables.npz == a fresh computation by colour-science (python -m bubbleoptics.colour_tables).
+
+    1e-12 absolute on the weights and the basis (values of order 0.01-1) allows for a
+    different summation order on another machine; the wavelengths are exact.
+    """
+    from bubbleoptics.colorimetry import colour_tables
+    from bubbleoptics.colour_tables import compute_colour_tables
+
+    shipped, fresh = colour_tables(), compute_colour_tables()
+    assert set(shipped) - {"colour_science_version"} == set(fresh)
+    np.testing.assert_array_equal(shipped["wavelengths_nm"], fresh["wavelengths_nm"])
+    np.testing.assert_array_equal(shipped["srgb_dominant_wavelengths_nm"], fresh["srgb_dominant_wavelengths_nm"])
+    for key in ("xyz_weights_d65", "rgb_basis_mallett2019"):
+        assert shipped[key].shape == fresh[key].shape, key
+        np.testing.assert_allclose(shipped[key], fresh[key], rtol=0, atol=1e-12, err_msg=key)
+
+
+@pytest.mark.reference
+def test_srgb_constants_match_colour_science():
+    """The XYZ -> linear sRGB matrix (IEC 61966-2-1) and the primaries' dominant wavelengths."""
+    from bubbleoptics.colorimetry import XYZ_TO_LINEAR_SRGB, srgb_dominant_wavelengths
+
+    srgb = colour.RGB_COLOURSPACES["sRGB"]
+    np.testing.assert_array_equal(XYZ_TO_LINEAR_SRGB, srgb.matrix_XYZ_to_RGB)
+    expected = [float(colour.dominant_wavelength(p, srgb.whitepoint)[0]) for p in srgb.primaries]
+    assert srgb_dominant_wavelengths().tolist() == expected == [611.0, 549.0, 464.0]
+
+
+@pytest.mark.reference
+@pytest.mark.parametrize("n_bands", [3, 16, 421])
+def test_band_weights_from_the_tables_equal_the_colour_science_path(n_bands):
+    """band_spectral_weights as computed before the tables: colour-science's Integration matrix
+    on the 1 nm grid (the uncached path, ``_weights``), summed over bands."""
+    from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM, _weights
+
+    wl, W = bo.band_spectral_weights(n_bands)
+    w_fine = _weights(DEFAULT_WAVELENGTHS_NM, "D65", OBSERVER)
+    assert W[1].sum() == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_allclose(W.sum(axis=1), w_fine.sum(axis=1), rtol=0, atol=1e-12)  # bands partition
+    if n_bands == 421:  # one band per 1 nm sample: the 1 nm weights themselves
+        np.testing.assert_allclose(W, w_fine, rtol=0, atol=1e-12)
+
+
+@pytest.mark.reference
+@pytest.mark.parametrize("n_bands,lo,hi", [(3, 360.0, 780.0), (16, 360.0, 780.0), (421, 360.0, 780.0),
+                                           (16, 400.0, 700.0)])
+def test_rgb_basis_from_the_tables_equals_colour_science_align(n_bands, lo, hi):
+    """rgb_reflectance_basis as computed before the tables: colour-science's ``align`` of the
+    Mallett-Yuksel basis onto [lo, hi] at 1 nm, averaged over each band (the tables hold
+    360-780 nm and cut narrower ranges from it)."""
+    mallett = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fine = mallett.copy().align(colour.SpectralShape(lo, hi, 1.0))
+    edges = np.linspace(lo, hi, n_bands + 1)
+    expected = np.array([fine.values[(fine.wavelengths >= a) & (fine.wavelengths <= b)].mean(axis=0)
+                         for a, b in zip(edges[:-1], edges[1:])])
+    np.testing.assert_allclose(bo.rgb_reflectance_basis(n_bands, lo, hi), expected, rtol=0, atol=1e-14)
+
+
+@pytest.mark.reference
+def test_srgb_transfer_functions_equal_colour_science_to_the_bit():
+    """linear_srgb_to_srgb / srgb_to_linear_srgb == colour.cctf_encoding / cctf_decoding ("sRGB").
+
+    Over [-0.5, 1.5] (values outside [0, 1] included), every 16-bit code, and around both
+    break points.
+    """
+    from bubbleoptics.colorimetry import linear_srgb_to_srgb, srgb_to_linear_srgb
+
+    x = np.concatenate([np.linspace(-0.5, 1.5, 100001), np.arange(65536) / 65535,
+                        0.0031308 + np.arange(-50, 51) * 2e-18, 0.0031308 * 12.92 + np.arange(-50, 51) * 7e-18])
+    np.testing.assert_array_equal(linear_srgb_to_srgb(x), colour.cctf_encoding(x, function="sRGB"))
+    np.testing.assert_array_equal(srgb_to_linear_srgb(x), colour.cctf_decoding(x, function="sRGB"))
+
+
+@pytest.mark.analytic
+def test_srgb_transfer_functions_shapes_limits_and_nan():
+    """Scalars give scalars, arrays keep their shape, 0 and 1 are fixed points, the two invert
+    each other, the curve is continuous at its break point, and NaN stays NaN."""
+    from bubbleoptics.colorimetry import linear_srgb_to_srgb, srgb_to_linear_srgb
+
+    assert np.ndim(linear_srgb_to_srgb(0.5)) == 0 and np.ndim(srgb_to_linear_srgb(0.5)) == 0
+    x = np.random.default_rng(3).uniform(0, 1, (4, 5, 3))
+    assert linear_srgb_to_srgb(x).shape == (4, 5, 3)
+    np.testing.assert_allclose(srgb_to_linear_srgb(linear_srgb_to_srgb(x)), x, rtol=1e-14, atol=1e-16)
+    assert linear_srgb_to_srgb([0.0, 1.0]).tolist() == pytest.approx([0.0, 1.0], abs=1e-15)
+    below, above = linear_srgb_to_srgb(np.nextafter(0.0031308, [0.0, 1.0]))
+    assert above - below == pytest.approx(0.0, abs=1e-7)  # continuous (the standard's rounding: 5e-8)
+    assert np.isnan(linear_srgb_to_srgb(np.nan)) and np.isnan(srgb_to_linear_srgb([np.nan])).all()
