@@ -10,13 +10,12 @@ Nothing in the package imports this module; it imports colour-science.
 """
 
 import argparse
-import os
 import sys
-import tempfile
 import warnings
 
 import numpy as np
 
+from .atomic import write_atomically
 from .colorimetry import COLOUR_TABLES_PATH, DEFAULT_OBSERVER, DEFAULT_WAVELENGTHS_NM, _weights
 
 __all__ = ["compute_colour_tables", "write_colour_tables", "main"]
@@ -42,25 +41,18 @@ def compute_colour_tables() -> dict:
     }
 
 
-def write_colour_tables(path=COLOUR_TABLES_PATH) -> str:
-    """Compute the tables and write them to *path* atomically (temporary file, then rename)."""
+def write_colour_tables(path=COLOUR_TABLES_PATH):
+    """Compute the tables and write them to *path* (atomically); return *path*."""
     import colour
 
-    path = os.path.abspath(os.fspath(path))
     tables = compute_colour_tables()
     tables["colour_science_version"] = np.array(colour.__version__)
-    fd, tmp = tempfile.mkstemp(prefix=".colour_tables.", suffix=".npz", dir=os.path.dirname(path))
-    try:
-        with os.fdopen(fd, "wb") as f:
+
+    def write(tmp):
+        with open(tmp, "wb") as f:  # a file object: np.savez(name) would append ".npz" to the name
             np.savez(f, **tables)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes the file private; give it the usual mode
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+
+    write_atomically(path, write)
     return path
 
 
