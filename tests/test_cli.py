@@ -28,8 +28,8 @@ from tracer.cli import main
 pytestmark = pytest.mark.api
 
 ROOT = Path(__file__).resolve().parent.parent
-LISTING_3_1 = ROOT / "data" / "seed_scenes" / "listing_3_1.txt"
-LISTING_3_2 = ROOT / "data" / "seed_scenes" / "listing_3_2.txt"
+LISTING_3_1 = ROOT / "data" / "coursework_scenes" / "listing_3_1.txt"
+LISTING_3_2 = ROOT / "data" / "coursework_scenes" / "listing_3_2.txt"
 LISTING_3_2_TOML = ROOT / "data" / "scenes" / "listing_3_2.toml"
 ONE_BUBBLE = ROOT / "data" / "scenes" / "seed_one_bubble.txt"
 SCENE_FILES = sorted(p for p in (ROOT / "data" / "scenes").iterdir() if p.suffix in (".txt", ".toml"))

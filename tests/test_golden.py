@@ -37,8 +37,8 @@ SETTINGS = dict(width=SIZE, height=SIZE, depth=4, spp=1)
 REGENERATE = os.environ.get("TRACER_REGENERATE_GOLDEN", "") not in ("", "0")
 
 SCENES = {
-    "listing_3_1": lambda: tracer.load_scene(ROOT / "data" / "seed_scenes" / "listing_3_1.txt"),
-    "listing_3_2": lambda: tracer.load_scene(ROOT / "data" / "seed_scenes" / "listing_3_2.txt"),
+    "listing_3_1": lambda: tracer.load_scene(ROOT / "data" / "coursework_scenes" / "listing_3_1.txt"),
+    "listing_3_2": lambda: tracer.load_scene(ROOT / "data" / "coursework_scenes" / "listing_3_2.txt"),
     "fig3_5_materials": lambda: tracer.load_scene(ROOT / "data" / "scenes" / "fig3_5_materials.txt"),
     "builtin": tracer.default_scene,
 }

@@ -1,4 +1,4 @@
-"""Scene files: the seed's text format, the native TOML format, the converter, and errors.
+"""Scene files: the coursework's text format, the native TOML format, the writer, the converter, and errors.
 
 Expected values are read off the listings by eye (docs/scene-format.md gives the mapping), so
 a test failing here means the loader and the documentation disagree.
@@ -16,13 +16,22 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tracer.errors import SceneError, SceneWarning
-from tracer.io import load_scene, load_seed_scene, load_toml_scene, scene_to_toml_text, seed_to_toml
-from tracer.scene import SEED_NM_PER_UNIT, Camera, Environment, Scene
-from tracer.tomlformat import _quote, save_toml_scene
+from tracer.io import (
+    coursework_to_toml,
+    load_coursework_scene,
+    load_scene,
+    load_toml_scene,
+    save_toml_scene,
+    scene_to_toml_text,
+)
+from tracer.scene import COURSEWORK_NM_PER_UNIT, Camera, Environment, Material, Scene, Sphere
+from tracer.toml_scene import parse_toml_text
+
+pytestmark = pytest.mark.api
 
 ROOT = Path(__file__).resolve().parent.parent
-LISTING_3_1 = ROOT / "data" / "seed_scenes" / "listing_3_1.txt"
-LISTING_3_2 = ROOT / "data" / "seed_scenes" / "listing_3_2.txt"
+LISTING_3_1 = ROOT / "data" / "coursework_scenes" / "listing_3_1.txt"
+LISTING_3_2 = ROOT / "data" / "coursework_scenes" / "listing_3_2.txt"
 SCENES = ROOT / "data" / "scenes"
 
 
@@ -55,6 +64,10 @@ def assert_same(a, b, where="scene"):
         assert a == b, f"{where}: {a!r} != {b!r}"
 
 
+#: A material's five lines in the coursework's format.
+MAT = "255 255 255\n0.1 0.5 0.5 0\n10\n1\n0\n"
+
+
 def write(tmp_path, text, name="scene.txt", encoding="utf-8"):
     p = tmp_path / name
     if isinstance(text, bytes):
@@ -65,10 +78,10 @@ def write(tmp_path, text, name="scene.txt", encoding="utf-8"):
 
 
 # ==========================================================================================
-# The seed format: the two listings
+# The coursework's format: the two listings
 # ==========================================================================================
 def test_listing_3_1_tetrahedron_and_light():
-    scene = load_seed_scene(LISTING_3_1)
+    scene = load_coursework_scene(LISTING_3_1)
     assert scene.spheres == [] and scene.bubbles == []
     (mesh,) = scene.meshes
     assert mesh.name == "тетраэдр"
@@ -84,7 +97,7 @@ def test_listing_3_1_tetrahedron_and_light():
     (light,) = scene.lights
     assert light.position == (1000.0, 1000.0, 1000.0)
     assert light.intensity == 0.5 and light.color == (1.0, 1.0, 1.0)
-    assert scene.camera == Camera.seed_default()
+    assert scene.camera == Camera.coursework_default()
     assert scene.environment.kind == "constant" and scene.environment.color == (0.0, 0.0, 0.0)
     assert scene.ambient == (1.0, 1.0, 1.0)
     assert scene.source == str(LISTING_3_1)
@@ -92,7 +105,7 @@ def test_listing_3_1_tetrahedron_and_light():
 
 
 def test_listing_3_2_sphere_and_bubble():
-    scene = load_seed_scene(LISTING_3_2)
+    scene = load_coursework_scene(LISTING_3_2)
     (sphere,) = scene.spheres
     assert sphere.name == "сфера"
     assert sphere.center == (300.0, 400.0, 150.0) and sphere.radius == 100.0
@@ -108,10 +121,10 @@ def test_listing_3_2_sphere_and_bubble():
 
 
 @pytest.mark.analytic
-def test_bubble_thickness_is_radius_difference_times_seed_scale():
-    (bubble,) = load_seed_scene(LISTING_3_2).bubbles
+def test_bubble_thickness_is_radius_difference_times_coursework_scale():
+    (bubble,) = load_coursework_scene(LISTING_3_2).bubbles
     assert bubble.film.kind == "uniform"
-    expected = (100 - 99.9) * SEED_NM_PER_UNIT  # 0.1 unit -> 100 nm (up to float rounding)
+    expected = (100 - 99.9) * COURSEWORK_NM_PER_UNIT  # 0.1 unit -> 100 nm (up to float rounding)
     assert math.isclose(bubble.film.thickness_nm, 100.0, rel_tol=1e-9)
     assert math.isclose(bubble.film.thickness_nm, expected, rel_tol=1e-9)
     # taken in decimal from the digits as written, so exactly 100 rather than 99.99999999999432
@@ -122,7 +135,7 @@ def test_bubble_thickness_is_radius_difference_times_seed_scale():
 @pytest.mark.parametrize("c8", [0, 1, 10, 11, 100, 128, 200, 254, 255])
 def test_colours_are_decoded_from_srgb(tmp_path, c8):
     text = f"s a\n0 0 0\n1\n{c8} 0 255\n0 1 0 0\n1\n1\n0\n"
-    (s,) = load_seed_scene(write(tmp_path, text)).spheres
+    (s,) = load_coursework_scene(write(tmp_path, text)).spheres
     assert s.material.color[0] == pytest.approx(srgb_decode(c8), rel=1e-12, abs=1e-15)
     assert s.material.color[1:] == (0.0, 1.0)
 
@@ -130,7 +143,7 @@ def test_colours_are_decoded_from_srgb(tmp_path, c8):
 def test_light_tag_read_as_digit_one_by_the_pdf_transcription(tmp_path):
     text = LISTING_3_1.read_text(encoding="utf-8").replace("\nl\n", "\n1\n")
     assert "\n1\n1000 1000 1000" in text
-    assert_same(load_seed_scene(write(tmp_path, text)), load_seed_scene(LISTING_3_1))
+    assert_same(load_coursework_scene(write(tmp_path, text)), load_coursework_scene(LISTING_3_1))
 
 
 def test_comments_crlf_and_byte_order_mark_are_accepted(tmp_path):
@@ -139,16 +152,16 @@ def test_comments_crlf_and_byte_order_mark_are_accepted(tmp_path):
     lines.insert(0, "# a comment before everything")
     lines.insert(3, "   # a comment inside a block")
     data = ("\ufeff" + "\r\n".join(lines)).encode("utf-8")
-    assert_same(load_seed_scene(write(tmp_path, data)), load_seed_scene(LISTING_3_2))
+    assert_same(load_coursework_scene(write(tmp_path, data)), load_coursework_scene(LISTING_3_2))
 
 
 def test_several_blank_lines_separate_blocks(tmp_path):
     text = LISTING_3_2.read_text(encoding="utf-8").replace("\n\n", "\n\n\n  \n\t\n") + "\n\n\n"
-    assert_same(load_seed_scene(write(tmp_path, text)), load_seed_scene(LISTING_3_2))
+    assert_same(load_coursework_scene(write(tmp_path, text)), load_coursework_scene(LISTING_3_2))
 
 
 def test_scene_without_lights_is_allowed(tmp_path):
-    scene = load_seed_scene(write(tmp_path, "s a\n0 0 0\n1\n1 2 3\n0 1 0 0\n1\n1\n0\n"))
+    scene = load_coursework_scene(write(tmp_path, "s a\n0 0 0\n1\n1 2 3\n0 1 0 0\n1\n1\n0\n"))
     assert scene.lights == [] and len(scene.spheres) == 1
 
 
@@ -173,14 +186,14 @@ BUBBLE = """b пузырь
 @pytest.mark.analytic
 def test_bubble_with_equal_radii_has_a_zero_thickness_film(tmp_path):
     text = BUBBLE.format(r_out=50, inner_centre="10 20 30", r_in=50)
-    (b,) = load_seed_scene(write(tmp_path, text)).bubbles
+    (b,) = load_coursework_scene(write(tmp_path, text)).bubbles
     assert b.film.thickness_nm == 0.0 and b.radius == 50.0
 
 
 @pytest.mark.analytic
 def test_bubble_inner_centre_may_differ_by_rounding_only(tmp_path):
     text = BUBBLE.format(r_out=50, inner_centre="10 20 30.00000000001", r_in=49.5)
-    (b,) = load_seed_scene(write(tmp_path, text)).bubbles
+    (b,) = load_coursework_scene(write(tmp_path, text)).bubbles
     assert b.film.thickness_nm == 500.0 and b.center == (10.0, 20.0, 30.0)
 
 
@@ -189,7 +202,7 @@ def test_zero_area_faces_are_skipped_with_a_warning(tmp_path):
             "f 1 2 3\nf 1 2 4\nf 1 1 3\n-\n255 255 255\n0 1 0 0\n1\n1\n0\n")
     path = write(tmp_path, text)
     with pytest.warns(SceneWarning) as record:
-        scene = load_seed_scene(path)
+        scene = load_coursework_scene(path)
     assert [str(w.message) for w in record] == [
         f"{path}:7: triangulated object 'm': face 1 2 4 has zero area and is skipped",
         f"{path}:8: triangulated object 'm': face 1 1 3 has zero area and is skipped",
@@ -197,13 +210,34 @@ def test_zero_area_faces_are_skipped_with_a_warning(tmp_path):
     np.testing.assert_array_equal(scene.meshes[0].faces, [[0, 1, 2]])
 
 
+@pytest.mark.analytic
+def test_both_loaders_skip_exactly_the_faces_the_bvh_calls_degenerate(tmp_path):
+    """One zero-area test (tracer.bvh.degenerate_triangles) for both formats: thinner than 16
+    ulps of the coordinates is skipped, however small the triangle; thin but real is kept."""
+    from tracer.bvh import degenerate_triangles
+
+    verts = [(0, 0, 0), (1, 0, 0), (0, 1, 0),  # a good face
+             (0.5, 1e-13, 0),  # 1e-13 high over a unit edge: thin, but 30 ulps of its coordinates
+             (1e6, 0, 0), (1e6 + 1, 0, 0), (1e6 + 0.5, 1e-10, 0)]  # 1e-10 high at 1e6: under 16 ulps
+    faces = [(0, 1, 2), (0, 1, 3), (4, 5, 6)]
+    text = ("t m\n" + "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in verts)
+            + "".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in faces) + "-\n" + MAT)
+    toml = (f"[[meshes]]\nvertices = {[list(map(float, v)) for v in verts]}\n"
+            f"faces = {[list(f) for f in faces]}\n")
+    for path in (write(tmp_path, text), write(tmp_path, toml, "m.toml")):
+        with pytest.warns(SceneWarning) as record:
+            (mesh,) = load_scene(path).meshes
+        assert len(record) == 1
+        np.testing.assert_array_equal(mesh.faces, [[0, 1, 2], [0, 1, 3]])
+        assert not degenerate_triangles(mesh.vertices[mesh.faces]).any()
+
+
 # ------------------------------------------------------------------------------------------
-# Seed-format errors: every one names the file and the line, and says what is wrong
+# Coursework-format errors: every one names the file and the line, and says what is wrong
 # ------------------------------------------------------------------------------------------
 SPHERE = "s шар\n0 0 0\n1\n255 0 0\n0.1 0.5 0.5 0\n10\n1.5\n0\n"  # 8 lines
 LIGHT = "l\n1 2 3\n0.5\n"
 MESH_HEAD = "t т\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"  # lines 1-5
-MAT = "255 255 255\n0.1 0.5 0.5 0\n10\n1\n0\n"
 
 
 def sphere_with(line, value):
@@ -212,7 +246,7 @@ def sphere_with(line, value):
     return "\n".join(lines)
 
 
-SEED_ERRORS = {
+COURSEWORK_ERRORS = {
     "unknown tag": ("x thing\n0 0 0\n", 1, "unknown block tag 'x'"),
     "capital tag": ("S шар\n0 0 0\n1\n", 1, "unknown block tag 'S'"),
     "two numbers for a centre": (sphere_with(2, "0 0"), 2, "expected 3 numbers (x y z)"),
@@ -272,11 +306,11 @@ SEED_ERRORS = {
 }
 
 
-@pytest.mark.parametrize("text,line,what", SEED_ERRORS.values(), ids=SEED_ERRORS.keys())
-def test_seed_errors_name_file_line_and_problem(tmp_path, text, line, what):
+@pytest.mark.parametrize("text,line,what", COURSEWORK_ERRORS.values(), ids=COURSEWORK_ERRORS.keys())
+def test_coursework_errors_name_file_line_and_problem(tmp_path, text, line, what):
     path = write(tmp_path, text)
     with pytest.raises(SceneError) as info:
-        load_seed_scene(path)
+        load_coursework_scene(path)
     err = info.value
     assert err.path == str(path) and err.line == line
     prefix = f"{path}:{line}: " if line is not None else f"{path}: "
@@ -306,18 +340,18 @@ def test_scene_error_is_a_value_error_and_pickles():
 # ==========================================================================================
 # Shipped scene files
 # ==========================================================================================
-SEED_FILES = sorted(SCENES.glob("*.txt")) + [LISTING_3_1, LISTING_3_2]
+COURSEWORK_FILES = sorted(SCENES.glob("*.txt")) + [LISTING_3_1, LISTING_3_2]
 
 
-@pytest.mark.parametrize("path", SEED_FILES, ids=lambda p: p.name)
-def test_shipped_seed_scenes_load_and_round_trip_through_toml(tmp_path, path):
+@pytest.mark.parametrize("path", COURSEWORK_FILES, ids=lambda p: p.name)
+def test_shipped_coursework_scenes_load_and_round_trip_through_toml(tmp_path, path):
     scene = load_scene(path)
     assert scene.spheres or scene.bubbles or scene.meshes
-    toml_path = seed_to_toml(path, tmp_path / "converted.toml")
+    toml_path = coursework_to_toml(path, tmp_path / "converted.toml")
     assert_same(load_scene(toml_path), scene)
 
 
-def test_benchmark_scenes_hold_one_two_three_seed_bubbles():
+def test_benchmark_scenes_hold_one_two_three_coursework_bubbles():
     for n, name in enumerate(["seed_one_bubble", "seed_two_bubbles", "seed_three_bubbles"], start=1):
         scene = load_scene(SCENES / f"{name}.txt")
         assert len(scene.bubbles) == n and not scene.spheres and not scene.meshes
@@ -329,9 +363,9 @@ def test_benchmark_scenes_hold_one_two_three_seed_bubbles():
 
 def test_converted_listing_in_data_is_the_converter_output(tmp_path):
     shipped = SCENES / "listing_3_2.toml"
-    fresh = seed_to_toml(LISTING_3_2, tmp_path / "listing_3_2.toml")
+    fresh = coursework_to_toml(LISTING_3_2, tmp_path / "listing_3_2.toml")
     assert shipped.read_text(encoding="utf-8") == fresh.read_text(encoding="utf-8")
-    assert_same(load_scene(shipped), load_seed_scene(LISTING_3_2))
+    assert_same(load_scene(shipped), load_coursework_scene(LISTING_3_2))
 
 
 def test_showcase_toml_scene():
@@ -347,11 +381,11 @@ def test_showcase_toml_scene():
 
 def test_load_scene_dispatches_on_suffix(tmp_path):
     toml_text = LISTING_3_2.read_text(encoding="utf-8")
-    seed_as_toml = write(tmp_path, toml_text, "seed.TOML")
+    coursework_as_toml = write(tmp_path, toml_text, "coursework.TOML")
     with pytest.raises(SceneError, match="invalid TOML"):
-        load_scene(seed_as_toml)  # .TOML (any case) is read as TOML
+        load_scene(coursework_as_toml)  # .TOML (any case) is read as TOML
     other = write(tmp_path, toml_text, "scene.scn")
-    assert_same(load_scene(other), load_seed_scene(LISTING_3_2))
+    assert_same(load_scene(other), load_coursework_scene(LISTING_3_2))
 
 
 # ==========================================================================================
@@ -677,10 +711,42 @@ color = "#ffffff"
     assert_same(load_toml_scene(out), scene)
 
 
+FINITE = st.floats(allow_nan=False, allow_infinity=False)
+
+
+@pytest.mark.property
+@given(name=st.text(), center=st.tuples(FINITE, FINITE, FINITE), radius=st.floats(min_value=5e-324, max_value=1e308))
+def test_toml_writer_round_trips_any_name_and_number(name, center, radius):
+    """Any text as an object's and a material's name, any finite number: back bit for bit."""
+    scene = Scene(spheres=[Sphere(center=center, radius=radius, material=Material(name=name, ior=radius), name=name)])
+    assert_same(parse_toml_text(scene_to_toml_text(scene)), scene)
+
+
 @pytest.mark.property
 @given(st.text())
-def test_toml_string_escaping_round_trips(s):
-    assert tomllib.loads(f"k = {_quote(s)}\n[t]\n{_quote(s)} = 1\n") == {"k": s, "t": {s: 1}}
+def test_keys_in_error_messages_are_written_as_toml_reads_them(key):
+    from tracer.toml_scene import _toml_key
+
+    assert tomllib.loads(f"{_toml_key(key)} = 1\n") == {key: 1}
+    assert "\n" not in _toml_key(key)  # an error message stays one line
+
+
+def test_writer_refuses_non_finite_numbers_and_leaves_the_old_file(tmp_path):
+    target = write(tmp_path, "old\n", "s.toml")
+    scene = Scene(spheres=[Sphere(center=(0.0, float("nan"), 0.0), radius=1.0)])
+    with pytest.raises(ValueError, match="cannot write the non-finite number nan to TOML"):
+        save_toml_scene(scene, target)
+    assert target.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["s.toml"]
+
+
+def test_writer_output_is_what_tomli_w_writes_with_the_header_as_comments():
+    import tomli_w
+
+    scene = Scene(spheres=[Sphere(center=(1, 2, 3), radius=np.float32(0.5))])
+    comment, body = scene_to_toml_text(scene, header="line one\n\nline three").split("\n\n", 1)
+    assert comment == "# line one\n#\n# line three"
+    assert body == tomli_w.dumps(tomllib.loads(body))
+    assert tomllib.loads(body)["spheres"][0]["radius"] == 0.5  # numpy scalars written as numbers
 
 
 def test_the_toml_example_in_the_docs_loads(tmp_path):
@@ -691,13 +757,13 @@ def test_the_toml_example_in_the_docs_loads(tmp_path):
     assert scene.bubbles[0].film.kind == "draining" and scene.meshes[0].faces.shape == (2, 3)
 
 
-def test_seed_text_can_be_parsed_from_a_string():
-    from tracer.seedformat import parse_seed_text
+def test_coursework_text_can_be_parsed_from_a_string():
+    from tracer.coursework_format import parse_coursework_text
 
     text = LISTING_3_2.read_text(encoding="utf-8")
-    assert_same(parse_seed_text(text, LISTING_3_2), load_seed_scene(LISTING_3_2))
+    assert_same(parse_coursework_text(text, LISTING_3_2), load_coursework_scene(LISTING_3_2))
     with pytest.raises(SceneError, match=r"^<string>:3: sphere 'a': radius must be positive"):
-        parse_seed_text("s a\n0 0 0\n0\n")
+        parse_coursework_text("s a\n0 0 0\n0\n")
 
 
 @pytest.mark.parametrize("suffix,module,package", [(".hdr", "cv2", "opencv-python-headless"),

@@ -86,6 +86,9 @@ def degenerate_triangles(tris):
     vertices, and nothing any image could show.  Why it is needed: the watertight test rejects a
     zero-area triangle only when its edge functions cancel exactly; for collinear vertices whose
     sheared coordinates are rounded it may report a "hit" on the segment, with no defined normal.
+    The one test of a zero-area face: the scene loaders skip the faces it flags, with a
+    warning (:mod:`tracer.coursework_format`, :mod:`tracer.toml_scene`), and :func:`build_bvh`
+    collapses any left in a mesh built in code.
     """
     tris = np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3)
     e1 = tris[:, 1] - tris[:, 0]

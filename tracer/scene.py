@@ -1,9 +1,9 @@
 """The scene model: plain dataclasses that loaders build and the renderer packs into arrays.
 
-Units: lengths in scene units (any unit, used consistently; the seed's files use screen-like
-units where a 960x960 image spans about 0-960), film thickness in nanometres, angles in
-radians (the camera's field of view in degrees, as people say it), colours as linear RGB in
-[0, 1] (the seed's 0-255 integers are converted by the loader), light intensities as
+Units: lengths in scene units (any unit, used consistently; the coursework's files use
+screen-like units where a 960x960 image spans about 0-960), film thickness in nanometres, angles
+in radians (the camera's field of view in degrees, as people say it), colours as linear RGB in
+[0, 1] (the coursework's 0-255 integers are converted by the loader), light intensities as
 non-negative multipliers of the light's spectrum (CIE D65 unless given).
 """
 
@@ -24,23 +24,25 @@ __all__ = [
     "Camera",
     "Environment",
     "Scene",
-    "SEED_NM_PER_UNIT",
+    "COURSEWORK_NM_PER_UNIT",
 ]
 
-#: A seed-format bubble's film is (r_out - r_in) * SEED_NM_PER_UNIT nanometres thick (see
-#: docs/scene-format.md: the seed's screen-unit spheres are centimetres-sized, its films are not).
-SEED_NM_PER_UNIT = 1000.0
+#: A coursework-format bubble's film is (r_out - r_in) * COURSEWORK_NM_PER_UNIT nanometres thick
+#: (see docs/scene-format.md: the coursework's screen-unit spheres are centimetres-sized, its
+#: films are not).
+COURSEWORK_NM_PER_UNIT = 1000.0
 
 
 @dataclass
 class Material:
-    """Whitted/Phong material (the seed's five material lines, in physical clothing).
+    """Whitted/Phong material (the coursework's five material lines, in physical clothing).
 
-    Local terms (the seed's eq. 1.4): ``color * (ambient * Ia + diffuse * sum_j I_j max(0, N.L_j))
-    + specular * sum_j I_j max(0, V.R_j)^shininess``.  Secondary rays: a mirror ray weighted by
-    ``specular * color + transmission * F``, a refracted ray weighted by
-    ``transmission * (1 - F) * color``, where F is the unpolarized Fresnel reflectance for
-    index ``ior`` (0 when ior == 1; total internal reflection sends everything to the mirror ray).
+    Local terms (the coursework's eq. 1.4):
+    ``color * (ambient * Ia + diffuse * sum_j I_j max(0, N.L_j)) + specular * sum_j I_j max(0, V.R_j)^shininess``.
+    Secondary rays: a mirror ray weighted by ``specular * color + transmission * F``, a
+    refracted ray weighted by ``transmission * (1 - F) * color``, where F is the unpolarized
+    Fresnel reflectance for index ``ior`` (0 when ior == 1; total internal reflection sends
+    everything to the mirror ray).
     """
 
     name: str = "default"
@@ -129,7 +131,7 @@ class Camera:
     look_at: tuple[float, float, float] = (0.0, 0.0, 0.0)
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     fov_deg: float = 40.0
-    mirror: bool = False  # flip the image left-right (a left-handed screen, as the seed's)
+    mirror: bool = False  # flip the image left-right (a left-handed screen, as the coursework's)
 
     def basis(self):
         """(origin, forward, right, up) unit vectors; raises ValueError when degenerate."""
@@ -150,10 +152,10 @@ class Camera:
         return pos, fwd, right, up
 
     @staticmethod
-    def seed_default():
-        """Frames the seed's screen-like coordinates: the plane z = 0, x and y in 0-960.
+    def coursework_default():
+        """Frames the coursework's screen-like coordinates: the plane z = 0, x and y in 0-960.
 
-        The seed's Qt program drew y downwards and x to the right, with the viewer (and its
+        The coursework's Qt program drew y downwards and x to the right, with the viewer (and its
         lights, e.g. at z = +1000) on the +z side: a left-handed screen frame, which no rotation
         of a camera reproduces.  So the camera sits at z = 2000 looking at (480, 480, 0) with up
         = -y and ``mirror=True`` (pixel column follows +x), with the field of view that spans

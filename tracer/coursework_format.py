@@ -1,4 +1,4 @@
-"""Reader for the seed coursework's text scene format (its section 3.1, listings 3.1 and 3.2).
+"""Reader for the coursework's text scene format (its section 3.1, listings 3.1 and 3.2).
 
 A scene file is UTF-8 text made of blocks separated by blank lines.  Each block starts with a
 tag line::
@@ -10,11 +10,11 @@ tag line::
                 from 1), a line "-", material
     l           light:    position "x y z", intensity in [0, 1]
                 (a block whose first line is exactly "1" is also a light: the PDF
-                transcription of the seed reads the tag "l" as the digit one)
+                transcription of the coursework reads the tag "l" as the digit one)
 
 and a material is five lines: ``R G B`` (integers 0-255), ``ka kd ks kt`` (each in [0, 1]),
 the specular exponent (>= 0), the refraction index (> 0) and the dispersion (>= 0).  Lines
-whose first non-blank character is ``#`` are comments (an extension: the seed has none).
+whose first non-blank character is ``#`` are comments (an extension: the coursework has none).
 
 How each field becomes a :mod:`tracer.scene` object, and why, is in ``docs/scene-format.md``.
 Every problem raises :class:`tracer.errors.SceneError` with the 1-based line to blame.
@@ -30,9 +30,12 @@ from decimal import Decimal
 
 import numpy as np
 
+from bubbleoptics.colorimetry import srgb_to_linear_srgb
+
+from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
 from .scene import (
-    SEED_NM_PER_UNIT,
+    COURSEWORK_NM_PER_UNIT,
     Bubble,
     Camera,
     Environment,
@@ -43,8 +46,9 @@ from .scene import (
     Scene,
     Sphere,
 )
+from .scene_text import read_scene_text
 
-__all__ = ["load_seed_scene", "parse_seed_text", "srgb8_to_linear", "CONCENTRIC_RTOL"]
+__all__ = ["load_coursework_scene", "parse_coursework_text", "srgb8_to_linear", "CONCENTRIC_RTOL"]
 
 #: A bubble's inner centre may differ from its outer centre by at most this times the outer radius.
 CONCENTRIC_RTOL = 1e-9
@@ -57,11 +61,9 @@ _KINDS = {"s": "sphere", "b": "bubble", "t": "triangulated object", "l": "light"
 
 
 def srgb8_to_linear(rgb) -> tuple[float, float, float]:
-    """Decode 8-bit sRGB components (0-255) to linear RGB in [0, 1] (IEC 61966-2-1)."""
-    import colour  # imported here: colour-science takes about a second to import
-
-    lin = colour.cctf_decoding(np.asarray(rgb, dtype=float) / 255.0, function="sRGB")
-    return tuple(float(x) for x in np.asarray(lin, dtype=float))
+    """Decode 8-bit sRGB components (0-255) to linear RGB in [0, 1] (IEC 61966-2-1,
+    :func:`bubbleoptics.colorimetry.srgb_to_linear_srgb`)."""
+    return tuple(srgb_to_linear_srgb(np.asarray(rgb, dtype=float) / 255.0).tolist())
 
 
 class _Reader:
@@ -187,37 +189,6 @@ class _Block:
 
 
 # ------------------------------------------------------------------------------------------
-def read_scene_text(path: str) -> str:
-    """The file's text, refusing what cannot be read or is not UTF-8 text (SceneError)."""
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read()
-    except FileNotFoundError:
-        raise SceneError(path, None, "no such file") from None
-    except IsADirectoryError:
-        raise SceneError(path, None, "is a directory, not a scene file") from None
-    except OSError as exc:
-        raise SceneError(path, None, f"cannot read the file: {exc.strerror or exc}") from None
-    return decode_scene_bytes(path, data)
-
-
-def decode_scene_bytes(path: str, data: bytes) -> str:
-    """Decode UTF-8 (an initial byte-order mark is dropped); NUL bytes mean a binary file."""
-    nul = data.find(b"\x00")
-    if nul >= 0:
-        raise SceneError(path, data.count(b"\n", 0, nul) + 1,
-                         "binary data (a NUL byte): this is not a text scene file")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise SceneError(
-            path, data.count(b"\n", 0, exc.start) + 1,
-            f"not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start} cannot be decoded);"
-            " scene files must be UTF-8",
-        ) from None
-    return text[1:] if text.startswith("\ufeff") else text
-
-
 def split_lines(text: str) -> list[str]:
     """Lines without their ends (LF or CRLF); a final line end does not start another line."""
     lines = text.split("\n")
@@ -242,14 +213,14 @@ def _blocks(lines):
         yield current, True
 
 
-def parse_seed_text(lines, path="<string>") -> Scene:
-    """Build a Scene from seed-format text (a string, or its lines without line ends)."""
+def parse_coursework_text(lines, path="<string>") -> Scene:
+    """Build a Scene from coursework-format text (a string, or its lines without line ends)."""
     path = os.fspath(path)
     if isinstance(lines, str):
         lines = split_lines(lines[1:] if lines.startswith("\ufeff") else lines)
     r = _Reader(path)
     scene = Scene(
-        camera=Camera.seed_default(),
+        camera=Camera.coursework_default(),
         environment=Environment(kind="constant", color=(0.0, 0.0, 0.0)),
         ambient=(1.0, 1.0, 1.0),
         source=path,
@@ -313,7 +284,7 @@ def _bubble(blk: _Block, name: str) -> Bubble:
         raise r.error(
             c_in_line,
             f"{blk.label}: the inner sphere must be concentric with the outer (centres differ by"
-            f" {offset:g}; a film of varying thickness is not expressible in the seed format; use TOML)",
+            f" {offset:g}; a film of varying thickness is not expressible in the coursework's format; use TOML)",
         )
     r_in_line, r_in = blk.radius("inner radius")
     tok_in = blk.lines[blk.pos - 1][1].split()[0]
@@ -323,7 +294,7 @@ def _bubble(blk: _Block, name: str) -> Bubble:
     blk.material(name, "inner")  # validated, then ignored: thin-film optics decides (see docs)
     # The thickness is the difference of the radii as written, taken in decimal so that
     # 100 - 99.9 is exactly 0.1 (binary floats would give 0.09999999999999432).
-    thickness = float((Decimal(tok_out) - Decimal(tok_in)) * Decimal(repr(SEED_NM_PER_UNIT)))
+    thickness = float((Decimal(tok_out) - Decimal(tok_in)) * Decimal(repr(COURSEWORK_NM_PER_UNIT)))
     return Bubble(
         center=c_out,
         radius=r_out,
@@ -375,7 +346,7 @@ def _mesh(blk: _Block, name: str, tag_line: int) -> Mesh:
                                     f" {n} vert{'ex' if n == 1 else 'ices'}")
     verts = np.array(vertices, dtype=np.float64).reshape(-1, 3)
     tri = np.array([idx for _, idx in faces], dtype=np.int64) - 1
-    keep = ~degenerate_faces(verts, tri)
+    keep = ~degenerate_triangles(verts[tri])
     if not keep.any():
         raise r.error(tag_line, f"{blk.label} has no usable face: all {len(faces)} have zero area")
     for (line, idx), ok in zip(faces, keep):
@@ -385,16 +356,7 @@ def _mesh(blk: _Block, name: str, tag_line: int) -> Mesh:
     return Mesh(vertices=verts, faces=tri[keep], material=material, name=name)
 
 
-def degenerate_faces(vertices: np.ndarray, faces: np.ndarray, rtol: float = 1e-12) -> np.ndarray:
-    """Boolean mask of faces whose area is zero (relative to their longest edge squared)."""
-    a, b, c = (vertices[faces[:, k]] for k in range(3))
-    cross = np.linalg.norm(np.cross(b - a, c - a), axis=1)
-    longest = np.max([np.sum((b - a) ** 2, axis=1), np.sum((c - b) ** 2, axis=1),
-                      np.sum((a - c) ** 2, axis=1)], axis=0)
-    return ~(cross > rtol * longest)
-
-
-def load_seed_scene(path) -> Scene:
-    """Read a seed-format scene file; raises SceneError('FILE:LINE: ...') on any problem."""
+def load_coursework_scene(path) -> Scene:
+    """Read a coursework-format scene file; raises SceneError('FILE:LINE: ...') on any problem."""
     path = os.fspath(path)
-    return parse_seed_text(split_lines(read_scene_text(path)), path)
+    return parse_coursework_text(split_lines(read_scene_text(path)), path)

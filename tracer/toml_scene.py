@@ -1,4 +1,4 @@
-"""The tracer's native scene format: TOML (read with the standard library's ``tomllib``).
+"""The tracer's native scene format: TOML, read with the standard library's ``tomllib`` and checked.
 
 A scene file has these tables, all optional except that at least one object must exist::
 
@@ -6,7 +6,7 @@ A scene file has these tables, all optional except that at least one object must
     [camera]         position, look_at, up, fov_deg, mirror
     [environment]    kind = "sky" | "constant" | "image", and the keys of that kind
     [render]         default render settings (width, height, depth, spp, spectral_samples,
-                     threshold, seed)
+                     threshold, seed, spectral_method)
     [materials.NAME] color, ambient, diffuse, specular, transmission, shininess, ior
     [[spheres]]      name, center, radius, material
     [[bubbles]]      name, center, radius, n_film, shininess, and a [bubbles.film] table
@@ -14,11 +14,10 @@ A scene file has these tables, all optional except that at least one object must
     [[lights]]       position, intensity, color
 
 Every key is checked: an unknown key (a typo) is an error naming it, as is a value of the wrong
-type or out of range.  Errors carry the line of the offending key where it can be found.  The
-full description, with examples, is ``docs/scene-format.md``.
-
-:func:`scene_to_toml_text` writes a Scene back as TOML (by hand, with strict escaping, and
-checked by parsing it again), and :func:`seed_to_toml` converts a seed-format file.
+type or out of range.  Errors carry the line of the offending key where it can be found (a
+light scan of the text, :class:`_Locator`).  Files the scene names (images, thickness maps,
+meshes) are read by :mod:`tracer.assets`.  The full description, with examples, is
+``docs/scene-format.md``; :mod:`tracer.toml_writer` writes a Scene back as TOML.
 """
 
 from __future__ import annotations
@@ -32,7 +31,12 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import tomli_w
 
+from bubbleoptics.colorimetry import srgb_to_linear_srgb
+
+from .assets import AssetError, load_environment_image, load_film_map, load_mesh_file
+from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
 from .scene import (
     Bubble,
@@ -45,30 +49,11 @@ from .scene import (
     Scene,
     Sphere,
 )
-from .seedformat import degenerate_faces, load_seed_scene, read_scene_text
+from .scene_text import read_scene_text
 
-__all__ = [
-    "load_toml_scene",
-    "parse_toml_text",
-    "scene_to_toml_text",
-    "save_toml_scene",
-    "seed_to_toml",
-    "IMAGE_SUFFIXES",
-]
+__all__ = ["load_toml_scene", "parse_toml_text"]
 
-#: Image files an ``[environment] kind = "image"`` may name, and what reads them.
-IMAGE_SUFFIXES = {
-    ".npy": "numpy (float32/float64, (H, W, 3), linear RGB)",
-    ".png": "Pillow (8-bit sRGB, decoded to linear)",
-    ".jpg": "Pillow (8-bit sRGB, decoded to linear)",
-    ".jpeg": "Pillow (8-bit sRGB, decoded to linear)",
-    ".hdr": "OpenCV, if opencv-python-headless is installed (Radiance RGBE, linear)",
-    ".exr": "OpenEXR, if the OpenEXR package is installed (linear)",
-}
-
-_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _HEX_COLOR = re.compile(r"#([0-9a-fA-F]{2})([0-9a-fA-F]{2})([0-9a-fA-F]{2})")
-
 
 # ==========================================================================================
 # Finding the line of a key (best effort; only used to point error messages at a line)
@@ -198,13 +183,18 @@ class _Locator:
 # ==========================================================================================
 # Reading
 # ==========================================================================================
+def _toml_key(k: str) -> str:
+    """One key as TOML writes it (bare, or a quoted basic string), as tomli-w formats it."""
+    return tomli_w.dumps({k: 0}).rsplit(" = ", 1)[0]
+
+
 def _keyname(kp) -> str:
     out = ""
     for k in kp:
         if isinstance(k, int):
             out += f"[{k}]"
         else:
-            k = k if _BARE_KEY.fullmatch(k) else _quote(k)
+            k = _toml_key(k)
             out += f".{k}" if out else k
     return out
 
@@ -294,12 +284,17 @@ class _Ctx:
             m = _HEX_COLOR.fullmatch(v)
             if not m:
                 raise self.bad(kp, f"'{v}' is not a colour: use \"#rrggbb\" (sRGB) or [r, g, b] (linear)")
-            from .seedformat import srgb8_to_linear
-
-            return srgb8_to_linear([int(g, 16) for g in m.groups()])
+            return tuple(srgb_to_linear_srgb(np.array([int(g, 16) for g in m.groups()]) / 255.0).tolist())
         if not isinstance(v, list) or len(v) != 3:
             raise self.bad(kp, f"must be a colour [r, g, b] (linear) or \"#rrggbb\" (sRGB), got {_short(v)}")
         return tuple(self.number(kp, x, 0.0, 1.0 if albedo else None) for x in v)
+
+    def asset(self, kp, load, full: Path):
+        """``load(full)`` (a :mod:`tracer.assets` loader), its AssetError as this key's SceneError."""
+        try:
+            return load(full)
+        except AssetError as exc:
+            raise self.bad(kp, str(exc)) from None
 
     def file(self, kp, v) -> Path:
         rel = self.string(kp, v)
@@ -451,7 +446,7 @@ def _environment(c: _Ctx, t) -> Environment:
     if "sun_direction" in t:
         env.sun_direction = c.vec3(kp + ("sun_direction",), t["sun_direction"], nonzero=True)
     if kind == "image":
-        env.image = _load_image(c, kp + ("path",), c.file(kp + ("path",), t["path"]))
+        env.image = c.asset(kp + ("path",), load_environment_image, c.file(kp + ("path",), t["path"]))
     return env
 
 
@@ -551,16 +546,7 @@ def _film(c: _Ctx, kp, t) -> FilmProfile:
         f.up = c.vec3(kp + ("up",), t["up"], nonzero=True)
     if kind == "map":
         pkp = kp + ("path",)
-        full = c.file(pkp, t["path"])
-        if full.suffix.lower() != ".npy":
-            raise c.bad(pkp, f"a thickness map is a .npy file, got '{full.name}'")
-        table = _load_npy(c, pkp, full)
-        if table.ndim != 2 or table.shape[0] < 2 or table.shape[1] < 1:
-            raise c.bad(pkp, f"a thickness map is a 2-D array (N_theta >= 2, N_phi >= 1), got shape {table.shape}")
-        table = table.astype(np.float64)
-        if not np.all(np.isfinite(table)) or (table < 0).any():
-            raise c.bad(pkp, "thickness map values must be finite and >= 0 (nanometres)")
-        f.table = np.ascontiguousarray(table)
+        f.table = c.asset(pkp, load_film_map, c.file(pkp, t["path"]))
     return f
 
 
@@ -571,7 +557,7 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
         for key in ("vertices", "faces"):
             if key in t:
                 raise c.bad(kp + (key,), "give either 'path' or 'vertices' and 'faces', not both")
-        verts, faces = _load_mesh_file(c, kp + ("path",), c.file(kp + ("path",), t["path"]))
+        verts, faces = c.asset(kp + ("path",), load_mesh_file, c.file(kp + ("path",), t["path"]))
         fkp = kp + ("path",)
     else:
         for key in ("vertices", "faces"):
@@ -600,7 +586,7 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
         verts = verts * c.number(kp + ("scale",), t["scale"], 0.0, lo_open=True)
     if "translate" in t:
         verts = verts + np.array(c.vec3(kp + ("translate",), t["translate"]))
-    bad = degenerate_faces(verts, faces)
+    bad = degenerate_triangles(verts[faces])
     if bad.all():
         raise c.bad(fkp, f"the mesh has no usable face: all {len(faces)} have zero area")
     if bad.any():
@@ -610,264 +596,8 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
                 material=_material_ref(c, kp, t, materials, name), name=name)
 
 
-def _load_mesh_file(c: _Ctx, kp, full: Path):
-    try:
-        import trimesh
-    except ImportError:
-        raise c.bad(kp, "reading mesh files needs the 'trimesh' package (pip install trimesh)") from None
-    try:
-        mesh = trimesh.load(str(full), force="mesh", process=False)
-    except Exception as exc:  # trimesh raises many kinds for unreadable files
-        raise c.bad(kp, f"cannot read mesh '{full.name}': {exc}") from None
-    verts = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64).reshape(-1, 3)
-    faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64).reshape(-1, 3)
-    if len(faces) == 0:
-        raise c.bad(kp, f"mesh '{full.name}' has no triangles")
-    if not np.all(np.isfinite(verts)):
-        raise c.bad(kp, f"mesh '{full.name}' has non-finite vertex coordinates")
-    return verts, faces
-
-
-def _load_npy(c: _Ctx, kp, full: Path) -> np.ndarray:
-    try:
-        arr = np.load(full, allow_pickle=False)
-    except Exception as exc:
-        raise c.bad(kp, f"cannot read '{full.name}' as a .npy array: {exc}") from None
-    if not isinstance(arr, np.ndarray) or arr.dtype.kind not in "fiu":
-        raise c.bad(kp, f"'{full.name}' must hold a numeric array")
-    return arr
-
-
-def _load_image(c: _Ctx, kp, full: Path) -> np.ndarray:
-    """An equirectangular environment image as linear RGB float32 (H, W, 3)."""
-    suffix = full.suffix.lower()
-    if suffix not in IMAGE_SUFFIXES:
-        raise c.bad(kp, f"unsupported image type '{suffix}' (supported: {', '.join(IMAGE_SUFFIXES)})")
-    if suffix == ".npy":
-        img = _load_npy(c, kp, full)
-        if img.dtype.kind != "f":
-            raise c.bad(kp, f"a .npy environment holds float32/float64 linear RGB, got {img.dtype}")
-    elif suffix in (".png", ".jpg", ".jpeg"):
-        from PIL import Image
-
-        try:
-            with Image.open(full) as im:
-                srgb = np.asarray(im.convert("RGB"), dtype=np.float64) / 255.0
-        except Exception as exc:
-            raise c.bad(kp, f"cannot read image '{full.name}': {exc}") from None
-        import colour
-
-        img = np.asarray(colour.cctf_decoding(srgb, function="sRGB"), dtype=np.float64)
-    elif suffix == ".hdr":
-        try:
-            import cv2
-        except ImportError:
-            raise c.bad(kp, "reading .hdr needs OpenCV (pip install opencv-python-headless);"
-                            " or convert the image to a .npy array") from None
-        bgr = cv2.imread(str(full), cv2.IMREAD_ANYDEPTH | cv2.IMREAD_COLOR)
-        if bgr is None:
-            raise c.bad(kp, f"cannot read image '{full.name}'")
-        img = np.ascontiguousarray(bgr[..., ::-1])
-    else:  # .exr
-        try:
-            import OpenEXR
-        except ImportError:
-            raise c.bad(kp, "reading .exr needs the OpenEXR package (pip install OpenEXR);"
-                            " or convert the image to a .npy array") from None
-        try:
-            with OpenEXR.File(str(full)) as f:
-                ch = f.channels()
-                if "RGB" in ch:
-                    img = np.asarray(ch["RGB"].pixels)
-                elif "RGBA" in ch:
-                    img = np.asarray(ch["RGBA"].pixels)[..., :3]
-                elif all(k in ch for k in "RGB"):
-                    img = np.stack([np.asarray(ch[k].pixels) for k in "RGB"], axis=-1)
-                else:
-                    raise ValueError(f"no R, G, B channels (has {', '.join(ch)})")
-        except Exception as exc:
-            raise c.bad(kp, f"cannot read image '{full.name}': {exc}") from None
-    if img.ndim != 3 or img.shape[2] != 3 or img.shape[0] < 1 or img.shape[1] < 1:
-        raise c.bad(kp, f"an environment image is (H, W, 3) RGB, got shape {img.shape}")
-    img = np.ascontiguousarray(img, dtype=np.float32)
-    if not np.all(np.isfinite(img)) or (img < 0).any():
-        raise c.bad(kp, "environment image values must be finite and >= 0 (linear RGB)")
-    return img
-
-
 def load_toml_scene(path) -> Scene:
     """Read a TOML scene file; raises SceneError('FILE:LINE: ...') on any problem."""
     path = os.fspath(path)
     return parse_toml_text(read_scene_text(path), path)
-
-
-# ==========================================================================================
-# Writing
-# ==========================================================================================
-def _quote(s: str) -> str:
-    """A TOML basic string: backslash, quote and control characters escaped."""
-    out = ['"']
-    for ch in s:
-        o = ord(ch)
-        if ch == "\\":
-            out.append("\\\\")
-        elif ch == '"':
-            out.append('\\"')
-        elif ch in "\b\t\n\f\r":
-            out.append({"\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}[ch])
-        elif o < 0x20 or o == 0x7F:
-            out.append(f"\\u{o:04X}")
-        else:
-            out.append(ch)
-    out.append('"')
-    return "".join(out)
-
-
-def _key(k: str) -> str:
-    return k if _BARE_KEY.fullmatch(k) else _quote(k)
-
-
-def _val(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        v = float(v)
-        if not math.isfinite(v):
-            raise ValueError(f"cannot write the non-finite number {v} to TOML")
-        return repr(v)
-    if isinstance(v, str):
-        return _quote(v)
-    if isinstance(v, (list, tuple, np.ndarray)):
-        return "[" + ", ".join(_val(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{_key(k)} = {_val(x)}" for k, x in v.items()) + " }" if v else "{}"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def _table(lines, header, items):
-    lines.append(header)
-    for k, v in items.items():
-        lines.append(f"{_key(k)} = {_val(v)}")
-    lines.append("")
-
-
-def _material_dict(m: Material) -> dict:
-    return {"color": list(m.color), "ambient": m.ambient, "diffuse": m.diffuse, "specular": m.specular,
-            "transmission": m.transmission, "shininess": m.shininess, "ior": m.ior}
-
-
-def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header: str | None = None) -> str:
-    """The scene as TOML text that :func:`parse_toml_text` reads back to an equal Scene.
-
-    Arrays that TOML cannot hold sensibly (an image environment, a thickness map) are saved as
-    ``.npy`` files beside ``toml_path`` and named relative to it; without ``toml_path`` such a
-    scene raises ValueError.  Meshes are written inline (vertices and 0-based faces).
-    ``unit`` goes to ``[scene] unit``; ``header`` (lines of text) becomes a leading comment.
-    """
-    toml_path = Path(toml_path) if toml_path is not None else None
-
-    def save_array(arr, suffix):
-        if toml_path is None:
-            raise ValueError("this scene holds an array (image environment or thickness map):"
-                             " give toml_path so it can be saved as .npy beside the TOML file")
-        name = f"{toml_path.stem}.{suffix}.npy"
-        np.save(toml_path.parent / name, arr)
-        return name
-
-    lines: list[str] = []
-    if header:
-        lines += [f"# {ln}".rstrip() for ln in header.splitlines()] + [""]
-    _table(lines, "[scene]", {"unit": unit, "ambient": list(scene.ambient)})
-    cam = scene.camera
-    _table(lines, "[camera]", {"position": list(cam.position), "look_at": list(cam.look_at),
-                               "up": list(cam.up), "fov_deg": cam.fov_deg,
-                               **({"mirror": True} if cam.mirror else {})})
-    env = scene.environment
-    e = {"kind": env.kind}
-    if env.kind == "constant":
-        e.update(color=list(env.color), intensity=env.intensity)
-    elif env.kind == "sky":
-        e.update(intensity=env.intensity, up=list(env.up), sun_direction=list(env.sun_direction))
-    elif env.kind == "image":
-        if env.image is None:
-            raise ValueError("image environment without an image")
-        e.update(path=save_array(np.asarray(env.image), "environment"), intensity=env.intensity,
-                 up=list(env.up))
-    else:
-        raise ValueError(f"unknown environment kind {env.kind!r}")
-    _table(lines, "[environment]", e)
-    if scene.render_defaults:
-        _table(lines, "[render]", dict(scene.render_defaults))
-
-    # Materials: one [materials.NAME] per distinct name; a second, different material under a
-    # name already taken is written inline with its name.
-    named: dict[str, Material] = {}
-    for obj in scene.spheres + scene.meshes:
-        named.setdefault(obj.material.name, obj.material)
-    for name, m in named.items():
-        _table(lines, f"[materials.{_key(name)}]", _material_dict(m))
-
-    def mat_ref(m: Material):
-        if named.get(m.name) == m:
-            return m.name
-        return {"name": m.name, **_material_dict(m)}
-
-    for s in scene.spheres:
-        _table(lines, "[[spheres]]", {"name": s.name, "center": list(s.center), "radius": s.radius,
-                                      "material": mat_ref(s.material)})
-    for i, b in enumerate(scene.bubbles):
-        _table(lines, "[[bubbles]]", {"name": b.name, "center": list(b.center), "radius": b.radius,
-                                      "n_film": b.n_film, "shininess": b.shininess})
-        f = b.film
-        fd = {"kind": f.kind}
-        if f.kind == "uniform":
-            fd["thickness_nm"] = f.thickness_nm
-        elif f.kind == "draining":
-            fd.update(top_nm=f.top_nm, bottom_nm=f.bottom_nm, exponent=f.exponent)
-        elif f.kind == "map":
-            if f.table is None:
-                raise ValueError(f"bubble {b.name!r}: a film map without a table")
-            fd.update(path=save_array(np.asarray(f.table), f"bubble{i}.film"))
-        else:
-            raise ValueError(f"bubble {b.name!r}: unknown film kind {f.kind!r}")
-        default = FilmProfile()
-        for key in ("swirl", "swirl_scale", "seed", "up"):  # all of them for draining, else if set
-            if f.kind == "draining" or getattr(f, key) != getattr(default, key):
-                fd[key] = list(getattr(f, key)) if key == "up" else getattr(f, key)
-        _table(lines, "[bubbles.film]", fd)
-    for m in scene.meshes:
-        _table(lines, "[[meshes]]", {"name": m.name, "material": mat_ref(m.material)})
-        lines.pop()
-        for key, rows in (("vertices", np.asarray(m.vertices, float)), ("faces", np.asarray(m.faces, int))):
-            lines.append(f"{key} = [")
-            lines += [f"    {_val(list(r))}," for r in rows]
-            lines.append("]")
-        lines.append("")
-    for light in scene.lights:
-        _table(lines, "[[lights]]", {"position": list(light.position), "intensity": light.intensity,
-                                     "color": list(light.color)})
-    text = "\n".join(lines).rstrip("\n") + "\n"
-    tomllib.loads(text)  # what we write must parse
-    return text
-
-
-def save_toml_scene(scene: Scene, toml_path, *, unit: str = "m", header: str | None = None) -> Path:
-    """Write the scene to ``toml_path`` (UTF-8), with any arrays as .npy files beside it."""
-    toml_path = Path(toml_path)
-    text = scene_to_toml_text(scene, toml_path, unit=unit, header=header)
-    toml_path.write_text(text, encoding="utf-8")
-    return toml_path
-
-
-def seed_to_toml(seed_path, toml_path) -> Path:
-    """Convert a seed-format scene file to TOML (the Scene read back from it is equal)."""
-    scene = load_seed_scene(seed_path)
-    header = (
-        f"Converted from the seed-format file {Path(seed_path).name} by tracer.tomlformat.seed_to_toml.\n"
-        "Units are the seed's screen-like units; the camera is Camera.seed_default().\n"
-        "See docs/scene-format.md for how each seed field maps to these keys."
-    )
-    return save_toml_scene(scene, toml_path, unit="seed", header=header)
 

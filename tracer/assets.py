@@ -1,0 +1,140 @@
+"""Files a TOML scene names: environment images, thickness maps (.npy) and mesh files.
+
+Each loader takes the file's full path and returns the array(s) the :class:`~tracer.scene.Scene`
+holds, or raises :class:`AssetError` saying what is wrong with the file; the TOML reader
+(:mod:`tracer.toml_scene`) turns that into a ``FILE:LINE: key: what is wrong``
+:class:`~tracer.errors.SceneError` naming the scene file and the key that named the asset.
+
+The readers are imported when a file needs them: Pillow for PNG and JPEG, trimesh for meshes,
+OpenCV for ``.hdr`` and OpenEXR for ``.exr`` (the last two optional: without them such a file
+is an error saying what to install).  Formats and their conventions: ``docs/scene-format.md``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from bubbleoptics.colorimetry import srgb_to_linear_srgb
+
+__all__ = ["AssetError", "IMAGE_SUFFIXES", "load_environment_image", "load_film_map", "load_mesh_file"]
+
+#: Image files an ``[environment] kind = "image"`` may name, and what reads them.
+IMAGE_SUFFIXES = {
+    ".npy": "numpy (float32/float64, (H, W, 3), linear RGB)",
+    ".png": "Pillow (8-bit sRGB, decoded to linear)",
+    ".jpg": "Pillow (8-bit sRGB, decoded to linear)",
+    ".jpeg": "Pillow (8-bit sRGB, decoded to linear)",
+    ".hdr": "OpenCV, if opencv-python-headless is installed (Radiance RGBE, linear)",
+    ".exr": "OpenEXR, if the OpenEXR package is installed (linear)",
+}
+
+
+class AssetError(ValueError):
+    """A file named by a scene that cannot be used; the message says why, without the location."""
+
+
+def _load_npy(full: Path) -> np.ndarray:
+    try:
+        arr = np.load(full, allow_pickle=False)
+    except Exception as exc:
+        raise AssetError(f"cannot read '{full.name}' as a .npy array: {exc}") from None
+    if not isinstance(arr, np.ndarray) or arr.dtype.kind not in "fiu":
+        raise AssetError(f"'{full.name}' must hold a numeric array")
+    return arr
+
+
+def load_film_map(full: Path) -> np.ndarray:
+    """A bubble's thickness map: a 2-D ``.npy`` array (N_theta >= 2, N_phi >= 1) of nm >= 0, as float64."""
+    if full.suffix.lower() != ".npy":
+        raise AssetError(f"a thickness map is a .npy file, got '{full.name}'")
+    table = _load_npy(full)
+    if table.ndim != 2 or table.shape[0] < 2 or table.shape[1] < 1:
+        raise AssetError(f"a thickness map is a 2-D array (N_theta >= 2, N_phi >= 1), got shape {table.shape}")
+    table = table.astype(np.float64)
+    if not np.all(np.isfinite(table)) or (table < 0).any():
+        raise AssetError("thickness map values must be finite and >= 0 (nanometres)")
+    return np.ascontiguousarray(table)
+
+
+def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) float64 and 0-based faces (F, 3) int64 of a mesh file, read by trimesh.
+
+    ``trimesh.load(path, force="mesh", process=False)``: vertices are neither merged nor
+    reordered, polygons are triangulated by trimesh.
+    """
+    try:
+        import trimesh
+    except ImportError:
+        raise AssetError("reading mesh files needs the 'trimesh' package (pip install trimesh)") from None
+    try:
+        mesh = trimesh.load(str(full), force="mesh", process=False)
+    except Exception as exc:  # trimesh raises many kinds for unreadable files
+        raise AssetError(f"cannot read mesh '{full.name}': {exc}") from None
+    verts = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64).reshape(-1, 3)
+    faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64).reshape(-1, 3)
+    if len(faces) == 0:
+        raise AssetError(f"mesh '{full.name}' has no triangles")
+    if not np.all(np.isfinite(verts)):
+        raise AssetError(f"mesh '{full.name}' has non-finite vertex coordinates")
+    return verts, faces
+
+
+def load_environment_image(full: Path) -> np.ndarray:
+    """An equirectangular environment image as linear RGB float32 (H, W, 3), values finite and >= 0.
+
+    8-bit PNG and JPEG are sRGB, decoded with :func:`bubbleoptics.colorimetry.srgb_to_linear_srgb`;
+    ``.npy``, ``.hdr`` and ``.exr`` are linear already (:data:`IMAGE_SUFFIXES`).
+    """
+    suffix = full.suffix.lower()
+    if suffix not in IMAGE_SUFFIXES:
+        raise AssetError(f"unsupported image type '{suffix}' (supported: {', '.join(IMAGE_SUFFIXES)})")
+    if suffix == ".npy":
+        img = _load_npy(full)
+        if img.dtype.kind != "f":
+            raise AssetError(f"a .npy environment holds float32/float64 linear RGB, got {img.dtype}")
+    elif suffix in (".png", ".jpg", ".jpeg"):
+        from PIL import Image
+
+        try:
+            with Image.open(full) as im:
+                srgb = np.asarray(im.convert("RGB"), dtype=np.float64) / 255.0
+        except Exception as exc:
+            raise AssetError(f"cannot read image '{full.name}': {exc}") from None
+        img = srgb_to_linear_srgb(srgb)
+    elif suffix == ".hdr":
+        try:
+            import cv2
+        except ImportError:
+            raise AssetError("reading .hdr needs OpenCV (pip install opencv-python-headless);"
+                             " or convert the image to a .npy array") from None
+        bgr = cv2.imread(str(full), cv2.IMREAD_ANYDEPTH | cv2.IMREAD_COLOR)
+        if bgr is None:
+            raise AssetError(f"cannot read image '{full.name}'")
+        img = np.ascontiguousarray(bgr[..., ::-1])
+    else:  # .exr
+        try:
+            import OpenEXR
+        except ImportError:
+            raise AssetError("reading .exr needs the OpenEXR package (pip install OpenEXR);"
+                             " or convert the image to a .npy array") from None
+        try:
+            with OpenEXR.File(str(full)) as f:
+                ch = f.channels()
+                if "RGB" in ch:
+                    img = np.asarray(ch["RGB"].pixels)
+                elif "RGBA" in ch:
+                    img = np.asarray(ch["RGBA"].pixels)[..., :3]
+                elif all(k in ch for k in "RGB"):
+                    img = np.stack([np.asarray(ch[k].pixels) for k in "RGB"], axis=-1)
+                else:
+                    raise ValueError(f"no R, G, B channels (has {', '.join(ch)})")
+        except Exception as exc:
+            raise AssetError(f"cannot read image '{full.name}': {exc}") from None
+    if img.ndim != 3 or img.shape[2] != 3 or img.shape[0] < 1 or img.shape[1] < 1:
+        raise AssetError(f"an environment image is (H, W, 3) RGB, got shape {img.shape}")
+    img = np.ascontiguousarray(img, dtype=np.float32)
+    if not np.all(np.isfinite(img)) or (img < 0).any():
+        raise AssetError("environment image values must be finite and >= 0 (linear RGB)")
+    return img
