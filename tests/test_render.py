@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import tracer
-from tracer.environment import ENV_SKY, environment_rgb
+from tracer.environment import environment_rgb
 from tracer.scene import Bubble, Camera, Environment, FilmProfile, Material, PointLight, Scene, Sphere
 
 SMALL = dict(width=24, height=24, progress=False)
@@ -31,9 +31,8 @@ def luminance(img):
 def incidence_cosines(scene, w, h):
     """cos(angle of incidence) of each pixel-centre camera ray on the unit sphere at the
     origin (0 where it misses), computed analytically."""
-    packed = tracer.pack.pack_scene(scene)
-    cam = packed.camera
-    o = cam[:3]
+    cam = tracer.pack.pack_scene(scene).camera[0]
+    o = cam["origin"]
     out = np.zeros((h, w))
     for y in range(h):
         for x in range(w):
@@ -107,12 +106,12 @@ def test_mirror_sphere_shows_exactly_what_it_reflects():
     w = h = 32
     img = tracer.render(scene, width=w, height=h, depth=2, threshold=0.0, progress=False)
     packed = tracer.pack.pack_scene(scene)
-    cam = packed.camera
+    cam = packed.camera[0]
     checked = 0
     for y in range(0, h, 3):
         for x in range(0, w, 3):
             d = np.array(tracer.sampling.camera_ray(cam, x + 0.5, y + 0.5, w, h))
-            o = cam[:3]
+            o = cam["origin"]
             b = o @ d
             disc = b * b - (o @ o - 1.0)
             if disc <= 1e-6:
@@ -120,7 +119,7 @@ def test_mirror_sphere_shows_exactly_what_it_reflects():
             t = -b - math.sqrt(disc)
             n = o + t * d
             r = d - 2 * (d @ n) * n
-            expected = environment_rgb(ENV_SKY, packed.env_params, packed.env_image, (r[0], r[1], r[2]))
+            expected = environment_rgb(packed.environment[0], packed.env_image, (r[0], r[1], r[2]))
             np.testing.assert_allclose(img[y, x], expected, rtol=1e-9, atol=1e-12)
             checked += 1
     assert checked > 20
@@ -369,7 +368,7 @@ def test_film_thickness_bound_holds_over_the_whole_bubble(film):
     normals = np.random.default_rng(7).normal(size=(20000, 3))
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     normals = np.vstack([normals, [[0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]])  # the poles: top and bottom
-    d = np.array([film_thickness(packed.bubble_film[0], packed.film_maps, n) for n in normals])
+    d = np.array([film_thickness(packed.films[0], packed.film_maps, n) for n in normals])
     bound = film_thickness_bound_nm(film)
     assert d.max() <= bound * (1 + 1e-12), (d.max(), bound)
     if film.swirl == 0:

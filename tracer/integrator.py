@@ -1,228 +1,176 @@
-"""The Whitted integrator (numba): the only module that knows the whole algorithm.
+"""The Whitted integrator (numba): light transport only.
 
-Per camera sample, an explicit stack of rays (origin, direction, per-channel throughput,
-generation).  A ray that misses everything adds throughput x environment.  A hit adds the
-local terms and pushes its children:
+Per camera sample, an explicit stack of rays (origin, direction, per-channel throughput w,
+generation; generation 1 is the camera ray).  A ray that leaves the scene adds
+w × environment.  At a hit the surface (:mod:`tracer.surfaces`, which this module never looks
+inside) tells what it adds from the ambient light and from each point light (those through a
+shadow ray that multiplies the transmittance of everything it crosses), and the weights of
+its two children, a mirror ray and a transmitted ray.  A child is traced if its generation is
+at most ``depth`` and, when ``threshold > 0``, the largest channel of its throughput exceeds
+``threshold``; a light's shadow ray is cast only if the light's largest possible contribution
+exceeds ``threshold`` (``threshold = 0`` traces every child with a non-zero weight and every
+shadow ray: the coursework's exhaustive tree).
 
-* **bubble** (a spherical thin film, :mod:`bubbleoptics.kernels`): a mirror ray weighted by
-  R(λ, θ, d) and a ray straight on weighted by T(λ, θ, d) — no inner sphere, no refraction;
-  point-light highlights (Phong lobe, exponent = the bubble's shininess) weighted by R;
-* **material** (spheres and meshes, :class:`tracer.scene.Material`): the seed's eq. 1.4 local
-  terms (ambient, diffuse and Phong specular from each light, with transmissive shadows), a
-  mirror ray weighted by ``specular * color + transmission * F`` and a refracted ray (Snell)
-  weighted by ``transmission * (1 - F) * color``, F the unpolarized Fresnel reflectance
-  (:func:`bubbleoptics.kernels.fresnel_interface`; total internal reflection gives F = 1).
+**No energy is dropped where a branch is cut.**  A child that is not traced, for depth or for
+pruning, ends with what the environment sends along its direction, times the surface's cut
+factor: 1 in general, and for a child that stays inside a bubble the closed form
+:math:`T/(1-R)` of all the light it would still send out of the bubble
+(:mod:`tracer.surfaces.soap_film`).  This is exact for every lossless surface in a uniform
+environment (R + T = 1 for a film, F + (1 − F) = 1 for clear glass: the throughputs of a
+ray's descendants sum to its own) and for an absorbing uniform film bubble in one.  The bias
+it leaves, elsewhere: a cut child is assumed to escape, so the environment stands in for
+whatever object it would have hit; inside a bubble, the light of all the later inner bounces
+is sent along the first exit's direction instead of along each chord's; the inner series
+assumes nothing else inside the bubble, and for a non-uniform film uses the film where the
+child starts.  Pruned shadow rays drop their light (at most ``threshold`` each).
 
-Generation 1 is the camera ray; a child is traced only if its generation is <= ``depth`` and,
-when ``threshold > 0``, the largest channel of its throughput exceeds ``threshold`` (pruning);
-likewise a shadow ray is cast only if the light's largest possible contribution through it
-exceeds ``threshold``.  ``threshold = 0`` traces every child whose lobe exists and every
-shadow ray, the seed's exhaustive tree.
-Shadow rays run to each light on the lit side of the surface (none to lights behind it) and
-multiply the transmittance of everything they cross: a bubble's T, glass's kt (1 - F) colour
-(without bending: Whitted shadows have no caustics), zero for opaque surfaces.
+Ray counts per row (``counts``): camera, reflected, transmitted, shadow
+(:data:`tracer.layout.RAY_COUNT_KINDS`).
 
-Ray counts per row: [camera, reflected, transmitted, shadow].
+Speed: a camera ray that misses everything is resolved in the pixel loop itself (one
+intersection test and an environment lookup, converted to RGB by ``rgb_round_trip``), so
+empty parts of the image cost about what a minimal kernel costs; only rays that hit call
+:func:`trace_camera_ray`.  The helpers that touch the scene's arrays are inlined
+(``inline="always"``): passing an array to a non-inlined numba function costs a reference
+count increment and decrement (docs/performance.md).
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange
 
-from bubbleoptics.kernels import (
-    POL_UNPOLARIZED,
-    film_band_average,
-    film_rt,
-    film_setup,
-    fresnel_interface,
-    normal_wavevector,
-)
-
+from . import surfaces
 from .environment import environment_rgb
-from .films import film_thickness
-from .geometry import intersect_bvh, intersect_sphere, sphere_hit_point
+from .geometry import intersect_bvh, intersect_sphere, offset_origin, sphere_hit_point
+from .layout import SURFACE_FILM
 from .sampling import camera_ray, stratified_offset
 
-_JIT = dict(cache=True, error_model="numpy")
-_JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
+__all__ = [
+    "GEOM_NONE",
+    "GEOM_SPHERE",
+    "GEOM_TRIANGLE",
+    "MAX_SHADOW_CROSSINGS",
+    "N_COUNTS",
+    "Workspace",
+    "new_workspace",
+    "closest_hit",
+    "trace_camera_ray",
+    "render_rows",
+]
 
-HIT_NONE = 0
-HIT_SPHERE = 1
-HIT_BUBBLE = 2
-HIT_TRIANGLE = 3
+_JIT = dict(cache=True, error_model="numpy")
+_INLINE = dict(inline="always", **_JIT)
+
+GEOM_NONE = 0
+GEOM_SPHERE = 1
+GEOM_TRIANGLE = 2
+#: A shadow ray crosses at most this many surfaces (then counts as unblocked).
 MAX_SHADOW_CROSSINGS = 64
 N_COUNTS = 4
+_BVH_STACK = 64  # tracer.geometry.STACK_SIZE
+
+
+class Workspace(NamedTuple):
+    """One thread's scratch arrays (allocated per image row by :func:`new_workspace`)."""
+
+    stack_o: np.ndarray  # (S, 3) ray origins
+    stack_d: np.ndarray  # (S, 3) directions
+    stack_w: np.ndarray  # (S, C) throughputs
+    stack_gen: np.ndarray  # (S,) generations
+    w: np.ndarray  # (C,) the current ray's throughput
+    wr: np.ndarray  # (C,) mirror child's weight (surfaces.scatter)
+    wt: np.ndarray  # (C,) transmitted child's weight
+    cut_r: np.ndarray  # (C,) cut factors of the two children
+    cut_t: np.ndarray
+    child: np.ndarray  # (C,) a child's throughput
+    light_w: np.ndarray  # (C,) surfaces.toward_light
+    trans: np.ndarray  # (C,) shadow-ray transmittance
+    R_shadow: np.ndarray  # (C,) a film crossed by a shadow ray
+    T_shadow: np.ndarray
+    L: np.ndarray  # (C,) radiance of the camera ray
+    bvh_stack: np.ndarray  # (64,) int64
+    film_cos: np.ndarray  # (B,) last cos(theta) per uniform film (-1: none)
+    film_R: np.ndarray  # (B, C) and its R, T
+    film_T: np.ndarray
+    kq_edges: np.ndarray  # (C + 1,) band-edge phase rates of a band-averaged film
+    counts: np.ndarray  # (N_COUNTS,) int64 rays by kind
+    ones: np.ndarray  # (C,) 1.0
 
 
 @njit(**_JIT)
-def closest_hit(o, d, tmin, tmax, spheres, bubbles, tris, bounds, child, first, count, bvh_stack):
-    """(kind, index, t, entering) of the nearest surface along o + t d, t in (tmin, tmax)."""
+def new_workspace(scene, depth):
+    """A :class:`Workspace` for *scene* and trace depth *depth* (its ray stack holds
+    ``depth + 8`` rays: a depth-first walk keeps at most one pending sibling per level)."""
+    nc = scene.rgb_basis.shape[0]
+    nb = scene.films.shape[0]
+    size = depth + 8
+    return Workspace(
+        np.empty((size, 3)), np.empty((size, 3)), np.empty((size, nc)), np.empty(size, dtype=np.int64),
+        np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc),
+        np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc),
+        np.empty(_BVH_STACK, dtype=np.int64),
+        np.full(nb, -1.0), np.empty((nb, nc)), np.empty((nb, nc)), np.empty(nc + 1),
+        np.zeros(N_COUNTS, dtype=np.int64), np.ones(nc),
+    )
+
+
+@njit(**_INLINE)
+def closest_hit(scene, ws, o, d, tmin, tmax):
+    """``(geometry kind, index, t, entering)`` of the nearest surface along o + t d with
+    tmin < t < tmax; kind :data:`GEOM_NONE` and t = tmax when there is none."""
     best = tmax
-    kind = HIT_NONE
+    kind = GEOM_NONE
     idx = -1
     entering = True
+    spheres = scene.spheres
     for i in range(spheres.shape[0]):
-        t, ent = intersect_sphere(o, d, (spheres[i, 0], spheres[i, 1], spheres[i, 2]), spheres[i, 3], tmin, best)
+        s = spheres[i]
+        c = s.center
+        t, ent = intersect_sphere(o, d, (c[0], c[1], c[2]), s.radius, tmin, best)
         if t < best:
-            best, kind, idx, entering = t, HIT_SPHERE, i, ent
-    for i in range(bubbles.shape[0]):
-        t, ent = intersect_sphere(o, d, (bubbles[i, 0], bubbles[i, 1], bubbles[i, 2]), bubbles[i, 3], tmin, best)
+            best, kind, idx, entering = t, GEOM_SPHERE, i, ent
+    if scene.tris.shape[0] > 0:
+        t, ti, _, _ = intersect_bvh(o, d, tmin, best, scene.bvh_bounds, scene.bvh_child, scene.bvh_first,
+                                    scene.bvh_count, scene.tris, ws.bvh_stack)
         if t < best:
-            best, kind, idx, entering = t, HIT_BUBBLE, i, ent
-    if tris.shape[0] > 0:
-        t, ti, _, _ = intersect_bvh(o, d, tmin, best, bounds, child, first, count, tris, bvh_stack)
-        if t < best:
-            best, kind, idx, entering = t, HIT_TRIANGLE, ti, True
+            best, kind, idx = t, GEOM_TRIANGLE, ti
+            nrm = scene.triangles[ti].normal
+            entering = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2] < 0.0
     return kind, idx, best, entering
 
 
-@njit(**_JIT)
-def surface(kind, idx, o, d, t, spheres, bubbles, tri_info):
-    """Hit point and outward unit normal (spheres re-projected onto their surface)."""
-    if kind == HIT_SPHERE:
-        return sphere_hit_point(o, d, t, (spheres[idx, 0], spheres[idx, 1], spheres[idx, 2]), spheres[idx, 3])
-    if kind == HIT_BUBBLE:
-        return sphere_hit_point(o, d, t, (bubbles[idx, 0], bubbles[idx, 1], bubbles[idx, 2]), bubbles[idx, 3])
+@njit(**_INLINE)
+def surface_at(scene, kind, idx, o, d, t):
+    """``(surface kind, surface index, point, outward unit normal)`` of a hit (sphere hit
+    points re-projected onto the sphere)."""
+    if kind == GEOM_SPHERE:
+        s = scene.spheres[idx]
+        c = s.center
+        p, n = sphere_hit_point(o, d, t, (c[0], c[1], c[2]), s.radius)
+        return s.surface, s.index, p, n
+    tri = scene.triangles[idx]
+    nrm = tri.normal
     p = (o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2])
-    return p, (tri_info[idx, 0], tri_info[idx, 1], tri_info[idx, 2])
+    return tri.surface, tri.index, p, (nrm[0], nrm[1], nrm[2])
 
 
-@njit(**_JIT)
-def offset(p, n, s):
-    """p + s n (s carries the side and the scene-proportional epsilon)."""
-    return (p[0] + s * n[0], p[1] + s * n[1], p[2] + s * n[2])
-
-
-#: A uniform film's R, T are reused when cos(theta) agrees to this (absolute): the error in
-#: R is then below |dR/dcos| * 1e-12 < 1e-9 even for 10-micron films.
-COS_REUSE_TOL = 1e-12
-
-
-@njit(**_JIT)
-def bubble_rt(b, n_out, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T, band):
-    """Fill R, T (per channel) for bubble *b* hit at outward normal *n_out*.
-
-    Point mode: the film at each band centre (:func:`bubbleoptics.kernels.film_rt`).  Band mode
-    (``band[0][0] == 1``): each band's film averaged in closed form over the band
-    (:func:`bubbleoptics.kernels.film_band_average`), with the phase rate 2π q1/λ taken at the
-    band edges (computed once per hit for the C + 1 shared edges).
-
-    Skips work a uniform film does not need: inside a sphere every chord meets both of its
-    ends at the same angle and reflection keeps it, so the entry hit, the exit hit and every
-    inner bounce of a path share one cos(theta) and, for a uniform film, one R(λ), T(λ).
-    Each bubble keeps its last (cos, R, T) per thread (*cache_cos* < 0 means empty).
-    """
-    band_mode, edges, n_edges, kq_edges = band
-    p = bubble_film[b]
-    uniform = p[0] == 0.0 and p[5] == 0.0
-    nc = R.shape[0]
-    if uniform and abs(cache_cos[b] - cos_i) <= COS_REUSE_TOL:
-        for c in range(nc):
-            R[c] = cache_R[b, c]
-            T[c] = cache_T[b, c]
-        return
-    d_nm = film_thickness(p, film_maps, n_out)
-    if band_mode[0] == 1:
-        q0 = max(cos_i, 1e-150)
-        for e in range(nc + 1):
-            kq_edges[e] = 2.0 * math.pi / edges[e] * normal_wavevector(n_edges[b, e] + 0j, 1.0, q0).real
-        for c in range(nc):
-            coef = film_setup(wl[c], cos_i, 1.0, bubble_n[b, c] + 0j, 1.0 + 0j)
-            r, t = film_band_average(coef, kq_edges[c], kq_edges[c + 1], d_nm, POL_UNPOLARIZED)
-            R[c] = r
-            T[c] = t
-    else:
-        for c in range(nc):
-            r, t = film_rt(wl[c], d_nm, cos_i, 1.0, bubble_n[b, c] + 0j, 1.0 + 0j, POL_UNPOLARIZED)
-            R[c] = r
-            T[c] = t
-    if uniform:
-        cache_cos[b] = cos_i
-        for c in range(nc):
-            cache_R[b, c] = R[c]
-            cache_T[b, c] = T[c]
-
-
-@njit(**_JIT)
-def fresnel_unpolarized(n1, n2, cos_i):
-    """Unpolarized Fresnel reflectance (1 at total internal reflection)."""
-    if n1 == n2:
-        return 0.0
-    res = fresnel_interface(n1, n2 + 0j, cos_i)
-    return 0.5 * (res[4] + res[5])
-
-
-@njit(**_JIT)
-def shadow_transmittance(p, lpos, trans, sc, counts):
-    """Transmittance (per channel, into *trans*) from p to the light at *lpos*; False if zero."""
-    (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T, band) = sc
-    # R_sh, T_sh: this function's own scratch; R, T hold the caller's hit and must survive
-    dx = lpos[0] - p[0]
-    dy = lpos[1] - p[1]
-    dz = lpos[2] - p[2]
-    dist = math.sqrt(dx * dx + dy * dy + dz * dz)
-    for c in range(trans.shape[0]):
-        trans[c] = 1.0
-    if not dist > 0.0:
-        return True
-    d = (dx / dist, dy / dist, dz / dist)
-    counts[3] += 1
-    tstart = 0.0
-    for _ in range(MAX_SHADOW_CROSSINGS):
-        kind, idx, t, entering = closest_hit(p, d, tstart, dist, spheres, bubbles, tris, bounds, child, first,
-                                             count, bvh_stack)
-        if kind == HIT_NONE:
-            return True
-        q, n = surface(kind, idx, p, d, t, spheres, bubbles, tri_info)
-        cos_i = abs(d[0] * n[0] + d[1] * n[1] + d[2] * n[2])
-        if kind == HIT_BUBBLE:
-            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R_sh, T_sh, cache_cos, cache_R, cache_T, band)
-            for c in range(trans.shape[0]):
-                trans[c] *= T_sh[c]
-        else:
-            m = int(spheres[idx, 4]) if kind == HIT_SPHERE else int(tri_info[idx, 3])
-            kt = mat_coef[m, 3]
-            if kt <= 0.0:
-                return False
-            if kind == HIT_TRIANGLE:
-                entering = (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) < 0.0
-            ior = mat_coef[m, 5]
-            F = fresnel_unpolarized(1.0, ior, cos_i) if entering else fresnel_unpolarized(ior, 1.0, cos_i)
-            for c in range(trans.shape[0]):
-                trans[c] *= kt * (1.0 - F) * mat_color[m, c]
-        tstart = t + eps
-        alive = False
-        for c in range(trans.shape[0]):
-            if trans[c] > 0.0:
-                alive = True
-        if not alive:
-            return False
-    return True
-
-
-@njit(**_JIT)
-def add_env(L, thr, d, env_kind, env_params, env_image, basis):
-    r, g, b = environment_rgb(env_kind, env_params, env_image, d)
+@njit(**_INLINE)
+def add_environment(scene, L, w, factor, d):
+    """``L += w * factor * environment(d)`` per channel (*factor* per channel too)."""
+    r, g, b = environment_rgb(scene.environment[0], scene.env_image, d)
+    basis = scene.rgb_basis
     for c in range(L.shape[0]):
-        L[c] += thr[c] * (basis[c, 0] * r + basis[c, 1] * g + basis[c, 2] * b)
+        L[c] += w[c] * factor[c] * (basis[c, 0] * r + basis[c, 1] * g + basis[c, 2] * b)
 
 
-@njit(**_JIT)
-def push(st_o, st_d, st_thr, st_gen, sp, o, d, gen):
-    st_o[sp, 0], st_o[sp, 1], st_o[sp, 2] = o
-    st_d[sp, 0], st_d[sp, 1], st_d[sp, 2] = d
-    st_gen[sp] = gen
-    return sp + 1
-
-
-@njit(**_JIT)
+@njit(**_INLINE)
 def light_terms(lpos, p, nf, d):
     """(N.L, R.V) for the light at *lpos* seen from *p*: the cosine between the facing normal
     *nf* and the direction to the light, and between the light's mirror direction about *nf*
-    and the direction to the viewer (-d) — the two cosines of the Phong terms of the seed's
-    eq. 1.4.  R.V is 0 when the light is behind the surface (N.L <= 0)."""
+    and the direction to the viewer (-d) — the two cosines of the Phong terms of the
+    coursework's eq. 1.4.  R.V is 0 when the light is behind the surface (N.L <= 0)."""
     lx = lpos[0] - p[0]
     ly = lpos[1] - p[1]
     lz = lpos[2] - p[2]
@@ -237,187 +185,144 @@ def light_terms(lpos, p, nf, d):
     return ndl, max(rv, 0.0)
 
 
-@njit(**_JIT)
-def push_child(st_o, st_d, st_thr, st_gen, sp, o, d, gen, weight, threshold):
-    """Push a child ray with throughput *weight* (per channel) if :func:`keep_child` says so;
-    returns (new stack pointer, pushed?)."""
-    if not keep_child(weight, threshold):
-        return sp, False
-    for c in range(weight.shape[0]):
-        st_thr[sp, c] = weight[c]
-    return push(st_o, st_d, st_thr, st_gen, sp, o, d, gen), True
-
-
-@njit(**_JIT)
-def max_product(a, b, j):
-    """max over channels of a[c] * b[j, c] (a bound on a light's contribution)."""
-    m = 0.0
-    for c in range(a.shape[0]):
-        m = max(m, a[c] * b[j, c])
-    return m
-
-
-@njit(**_JIT)
-def keep_child(w, threshold):
-    """Trace a child whose throughput is *w*? (its lobe exists; pruning when threshold > 0)."""
-    m = 0.0
-    for c in range(w.shape[0]):
-        m = max(m, w[c])
-    if threshold > 0.0:
-        return m > threshold
+@njit(**_INLINE)
+def shadow_transmittance(scene, ws, p, lpos, trans):
+    """Transmittance per channel (into *trans*) from *p* to the light at *lpos*; False if zero."""
+    dx = lpos[0] - p[0]
+    dy = lpos[1] - p[1]
+    dz = lpos[2] - p[2]
+    dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+    for c in range(trans.shape[0]):
+        trans[c] = 1.0
+    if not dist > 0.0:
+        return True
+    d = (dx / dist, dy / dist, dz / dist)
+    ws.counts[3] += 1
+    tstart = 0.0
+    for _ in range(MAX_SHADOW_CROSSINGS):
+        kind, idx, t, entering = closest_hit(scene, ws, p, d, tstart, dist)
+        if kind == GEOM_NONE:
+            return True
+        skind, sidx, q, n = surface_at(scene, kind, idx, p, d, t)
+        cos_i = abs(d[0] * n[0] + d[1] * n[1] + d[2] * n[2])
+        if not surfaces.shadow(scene, ws, skind, sidx, n, cos_i, entering, trans):
+            return False
+        tstart = t + scene.eps
+        alive = False
+        for c in range(trans.shape[0]):
+            if trans[c] > 0.0:
+                alive = True
+        if not alive:
+            return False
     return True
 
 
+@njit(**_INLINE)
+def _push(ws, sp, o, d, w, gen):
+    for k in range(3):
+        ws.stack_o[sp, k] = o[k]
+        ws.stack_d[sp, k] = d[k]
+    for c in range(w.shape[0]):
+        ws.stack_w[sp, c] = w[c]
+    ws.stack_gen[sp] = gen
+    return sp + 1
+
+
+@njit(**_INLINE)
+def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter):
+    """Trace the child (origin *o*, direction *d*, throughput ``ws.w * weight``) or, if it is
+    cut, end it with the environment along *d* times *cut*.  Returns the stack pointer."""
+    child = ws.child
+    m = 0.0
+    for c in range(child.shape[0]):
+        child[c] = ws.w[c] * weight[c]
+        m = max(m, child[c])
+    if not m > 0.0:
+        return sp  # no such lobe
+    if gen < depth and (threshold <= 0.0 or m > threshold):
+        ws.counts[counter] += 1
+        return _push(ws, sp, o, d, child, gen + 1)
+    add_environment(scene, L, child, cut, d)
+    return sp
+
+
 @njit(**_JIT)
-def trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, L, scratch, counts):
-    """Add the radiance (per channel) of camera ray (o0, d0) to L."""
-    (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-     mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T, band) = sc
-    env_kind, env_params, env_image, basis = env
-    st_o, st_d, st_thr, st_gen, trans, w = scratch
+def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
+    """Radiance per channel into ``ws.L`` of the camera ray (o0, d0), whose nearest hit *hit0*
+    (from :func:`closest_hit`) is already known and is not a miss."""
+    L = ws.L
     nc = L.shape[0]
-    sp = push(st_o, st_d, st_thr, st_gen, 0, o0, d0, 1)
     for c in range(nc):
-        st_thr[0, c] = 1.0
-    counts[0] += 1
+        L[c] = 0.0
+        ws.child[c] = 1.0
+    sp = _push(ws, 0, o0, d0, ws.child, 1)
+    first = True
+    eps = scene.eps
+    lights = scene.lights
     while sp > 0:
         sp -= 1
-        o = (st_o[sp, 0], st_o[sp, 1], st_o[sp, 2])
-        d = (st_d[sp, 0], st_d[sp, 1], st_d[sp, 2])
-        gen = st_gen[sp]
-        thr = st_thr[sp]
-        kind, idx, t, entering = closest_hit(o, d, 0.0, np.inf, spheres, bubbles, tris, bounds, child, first,
-                                             count, bvh_stack)
-        if kind == HIT_NONE:
-            add_env(L, thr, d, env_kind, env_params, env_image, basis)
+        o = (ws.stack_o[sp, 0], ws.stack_o[sp, 1], ws.stack_o[sp, 2])
+        d = (ws.stack_d[sp, 0], ws.stack_d[sp, 1], ws.stack_d[sp, 2])
+        gen = ws.stack_gen[sp]
+        for c in range(nc):
+            ws.w[c] = ws.stack_w[sp, c]  # the stack slot is reused by the children
+        if first:
+            kind, idx, t, entering = hit0
+            first = False
+        else:
+            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf)
+        if kind == GEOM_NONE:
+            add_environment(scene, L, ws.w, ws.ones, d)
             continue
-        p, n = surface(kind, idx, o, d, t, spheres, bubbles, tri_info)
+        skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t)
         dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
         cos_i = abs(dn)
         sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
         nf = (sgn * n[0], sgn * n[1], sgn * n[2])
+        hit = (p, n, nf, d, cos_i, entering)
+        tdir = surfaces.scatter(scene, ws, skind, sidx, hit)
+        p_front = offset_origin(p, nf, eps)
+        # local terms: ambient and the point lights
+        surfaces.ambient(scene, skind, sidx, ws.w, L)
+        for j in range(lights.shape[0]):
+            lp = lights[j].position
+            lpos = (lp[0], lp[1], lp[2])
+            ndl, rv = light_terms(lpos, p, nf, d)
+            if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, ws.light_w):
+                continue
+            if threshold > 0.0:
+                bound = 0.0
+                for c in range(nc):
+                    bound = max(bound, ws.w[c] * ws.light_w[c] * scene.light_radiance[j, c])
+                if bound <= threshold:
+                    continue  # this light can add at most `threshold` here: pruned
+            if shadow_transmittance(scene, ws, p_front, lpos, ws.trans):
+                for c in range(nc):
+                    L[c] += ws.w[c] * ws.light_w[c] * scene.light_radiance[j, c] * ws.trans[c]
+        # children: transmitted first (deeper in the stack), reflected on top
+        p_back = offset_origin(p, nf, -eps)
         refl = (d[0] + 2.0 * cos_i * nf[0], d[1] + 2.0 * cos_i * nf[1], d[2] + 2.0 * cos_i * nf[2])
-        p_front = offset(p, nf, eps)
-        p_back = offset(p, nf, -eps)
-        # keep this ray's throughput: the stack slot may be overwritten by children
-        for c in range(nc):
-            w[c] = thr[c]
-        if kind == HIT_BUBBLE:
-            bubble_rt(idx, n, cos_i, wl, bubble_n, bubble_film, film_maps, R, T, cache_cos, cache_R, cache_T, band)
-            shin = bubbles[idx, 4]
-            for j in range(lights.shape[0]):
-                lpos = (lights[j, 0], lights[j, 1], lights[j, 2])
-                ndl, rv = light_terms(lpos, p, nf, d)
-                if rv <= 0.0:
-                    continue  # light behind the film, or its mirror image away from the viewer
-                spec = rv**shin
-                if spec < 1e-12:
-                    continue
-                for c in range(nc):
-                    trans[c] = w[c] * R[c]
-                if threshold > 0.0 and spec * max_product(trans, light_rad, j) <= threshold:
-                    continue  # the highlight can add at most `threshold`: pruned like a branch
-                if shadow_transmittance(p_front, lpos, trans, sc, counts):
-                    for c in range(nc):
-                        L[c] += w[c] * R[c] * trans[c] * light_rad[j, c] * spec
-            if gen < depth:
-                # transmitted first (deeper in the stack), reflected on top
-                for c in range(nc):
-                    trans[c] = w[c] * T[c]
-                sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_back, d, gen + 1, trans, threshold)
-                counts[2] += pushed
-                for c in range(nc):
-                    trans[c] = w[c] * R[c]
-                sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_front, refl, gen + 1, trans, threshold)
-                counts[1] += pushed
-            continue
-        # material surface
-        m = int(spheres[idx, 4]) if kind == HIT_SPHERE else int(tri_info[idx, 3])
-        ka, kd, ks, kt, shin, ior = (mat_coef[m, 0], mat_coef[m, 1], mat_coef[m, 2], mat_coef[m, 3],
-                                     mat_coef[m, 4], mat_coef[m, 5])
-        if ka > 0.0:
-            for c in range(nc):
-                L[c] += w[c] * ka * mat_color[m, c] * ambient[c]
-        if kd > 0.0 or ks > 0.0:
-            for j in range(lights.shape[0]):
-                lpos = (lights[j, 0], lights[j, 1], lights[j, 2])
-                ndl, rv = light_terms(lpos, p, nf, d)
-                if ndl <= 0.0:
-                    continue  # light behind the surface: no shadow ray
-                spec = ks * rv**shin if (ks > 0.0 and rv > 0.0) else 0.0
-                if threshold > 0.0:
-                    for c in range(nc):
-                        trans[c] = w[c] * (kd * ndl * mat_color[m, c] + spec)
-                    if max_product(trans, light_rad, j) <= threshold:
-                        continue  # this light can add at most `threshold` here: pruned
-                if shadow_transmittance(p_front, lpos, trans, sc, counts):
-                    for c in range(nc):
-                        L[c] += w[c] * light_rad[j, c] * trans[c] * (kd * ndl * mat_color[m, c] + spec)
-        if gen >= depth or (ks <= 0.0 and kt <= 0.0):
-            continue
-        F = 0.0
-        tdir = d
-        if kt > 0.0:
-            if kind == HIT_TRIANGLE:
-                entering = dn < 0.0
-            n1 = 1.0 if entering else ior
-            n2 = ior if entering else 1.0
-            F = fresnel_unpolarized(n1, n2, cos_i)
-            if n1 != n2 and F < 1.0:
-                eta = n1 / n2
-                q2 = normal_wavevector(n2 + 0j, n1, n1 * cos_i)  # n2 cos(theta_t), no cancellation
-                cos_t = q2.real / n2
-                k = eta * cos_i - cos_t
-                tx = eta * d[0] + k * nf[0]
-                ty = eta * d[1] + k * nf[1]
-                tz = eta * d[2] + k * nf[2]
-                tn = math.sqrt(tx * tx + ty * ty + tz * tz)
-                tdir = (tx / tn, ty / tn, tz / tn)
-            if F < 1.0:
-                for c in range(nc):
-                    trans[c] = w[c] * kt * (1.0 - F) * mat_color[m, c]
-                sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_back, tdir, gen + 1, trans, threshold)
-                counts[2] += pushed
-        if ks > 0.0 or (kt > 0.0 and F > 0.0):
-            for c in range(nc):
-                trans[c] = w[c] * (ks * mat_color[m, c] + kt * F)
-            sp, pushed = push_child(st_o, st_d, st_thr, st_gen, sp, p_front, refl, gen + 1, trans, threshold)
-            counts[1] += pushed
+        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2)
+        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1)
 
 
-@njit(**_JIT_PARALLEL)
-def render_rows(row0, row1, width, height, spp, seed, depth, threshold, camera, to_rgb,
-                spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first,
-                count, mat_color, mat_coef, wl, eps, env_kind, env_params, env_image, basis,
-                lights, light_rad, ambient, band_mode, band_edges, bubble_n_edges, image, counts):
-    """Render rows [row0, row1) into image[row - row0] (linear sRGB) and counts[row - row0]."""
-    nc = basis.shape[0]
-    stack_size = 2 * depth + 8
-    for y in prange(row0, row1):
-        st_o = np.empty((stack_size, 3))
-        st_d = np.empty((stack_size, 3))
-        st_thr = np.empty((stack_size, nc))
-        st_gen = np.empty(stack_size, dtype=np.int64)
-        trans = np.empty(nc)
-        w = np.empty(nc)
-        R = np.empty(nc)
-        T = np.empty(nc)
-        R_sh = np.empty(nc)
-        T_sh = np.empty(nc)
-        L = np.empty(nc)
-        bvh_stack = np.empty(64, dtype=np.int64)
-        row_counts = np.zeros(N_COUNTS, dtype=np.int64)
-        nb = bubbles.shape[0]
-        cache_cos = np.full(nb, -1.0)
-        cache_R = np.empty((nb, nc))
-        cache_T = np.empty((nb, nc))
-        kq_edges = np.empty(nc + 1)
-        band = (band_mode, band_edges, bubble_n_edges, kq_edges)
-        sc = (spheres, bubbles, bubble_n, bubble_film, film_maps, tris, tri_info, bounds, child, first, count,
-              mat_color, mat_coef, wl, eps, bvh_stack, R, T, R_sh, T_sh, cache_cos, cache_R, cache_T, band)
-        env = (env_kind, env_params, env_image, basis)
-        scratch = (st_o, st_d, st_thr, st_gen, trans, w)
-        o0 = (camera[0], camera[1], camera[2])
+@njit(parallel=True, **_JIT)
+def render_rows(scene, rows, width, height, spp, seed, depth, threshold, image, counts):
+    """Render the image rows ``rows`` (int64, any order) of a width x height image into
+    ``image[k]`` (linear sRGB) and their ray counts into ``counts[k]``, k the position in
+    *rows*.  Rows are independent (each sample's jitter is a hash of seed, pixel and sample),
+    so any split of the rows over calls and threads gives the same image."""
+    M = scene.rgb_round_trip
+    to_rgb = scene.to_rgb
+    for k in prange(rows.shape[0]):
+        # records are read inside the parallel loop: numba cannot pass one into it by value
+        cam = scene.camera[0]
+        env = scene.environment[0]
+        o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
+        y = rows[k]
+        ws = new_workspace(scene, depth)
+        L = ws.L
+        nc = L.shape[0]
         for x in range(width):
             pix = y * width + x
             r = 0.0
@@ -425,16 +330,22 @@ def render_rows(row0, row1, width, height, spp, seed, depth, threshold, camera, 
             b = 0.0
             for s in range(spp):
                 fx, fy = stratified_offset(seed, pix, s, spp)
-                d0 = camera_ray(camera, x + fx, y + fy, width, height)
-                for c in range(nc):
-                    L[c] = 0.0
-                trace_sample(o0, d0, depth, threshold, sc, env, lights, light_rad, ambient, L, scratch, row_counts)
+                d0 = camera_ray(cam, x + fx, y + fy, width, height)
+                ws.counts[0] += 1
+                hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf)
+                if hit0[0] == GEOM_NONE:
+                    er, eg, eb = environment_rgb(env, scene.env_image, d0)
+                    r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
+                    g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
+                    b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
+                    continue
+                trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold)
                 for c in range(nc):
                     r += to_rgb[0, c] * L[c]
                     g += to_rgb[1, c] * L[c]
                     b += to_rgb[2, c] * L[c]
-            image[y - row0, x, 0] = r / spp
-            image[y - row0, x, 1] = g / spp
-            image[y - row0, x, 2] = b / spp
-        for k in range(N_COUNTS):
-            counts[y - row0, k] = row_counts[k]
+            image[k, x, 0] = r / spp
+            image[k, x, 1] = g / spp
+            image[k, x, 2] = b / spp
+        for i in range(N_COUNTS):
+            counts[k, i] = ws.counts[i]

@@ -1,63 +1,31 @@
-"""Turn a :class:`tracer.scene.Scene` into the flat arrays the numba integrator reads.
+"""Turn a :class:`tracer.scene.Scene` into the :class:`tracer.layout.PackedScene` the numba
+integrator reads.
 
 This is also where the renderer decides what a scene needs: spectral transport only when
-something depends on wavelength (a bubble), otherwise three linear-sRGB channels.
+something depends on wavelength (a bubble), otherwise three linear-sRGB channels; films
+averaged over each band only when one is thick enough for point samples to alias.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from bubbleoptics import band_spectral_weights, point_sampling_limit_nm, rgb_reflectance_basis, water_refractive_index
 from bubbleoptics.colorimetry import XYZ_TO_LINEAR_SRGB
 
+from . import layout as lay
 from .bvh import build_bvh
-from .environment import ENV_CONSTANT, ENV_IMAGE, ENV_SKY
-from .films import FILM_DRAINING, FILM_MAP, FILM_UNIFORM, N_FILM_PARAMS
 from .geometry import origin_epsilon
+from .layout import PackedScene
 from .scene import Scene
 
-__all__ = ["Packed", "pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method"]
+__all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
+           "AUTO_FRINGE_BANDS", "SPECTRAL_METHODS"]
 
-_ENV_KINDS = {"constant": ENV_CONSTANT, "sky": ENV_SKY, "image": ENV_IMAGE}
-_FILM_KINDS = {"uniform": FILM_UNIFORM, "draining": FILM_DRAINING, "map": FILM_MAP}
-
-
-@dataclass
-class Packed:
-    """Arrays for the integrator (see :mod:`tracer.integrator` for their layout)."""
-
-    spectral: bool
-    wavelengths: np.ndarray  # (C,) band centres in nm (empty in RGB mode)
-    to_rgb: np.ndarray  # (3, C) channels -> linear sRGB
-    rgb_basis: np.ndarray  # (C, 3) linear sRGB -> channels (reflectances and radiances)
-    spheres: np.ndarray  # (S, 5): centre, radius, material index
-    bubbles: np.ndarray  # (B, 5): centre, radius, shininess
-    bubble_n: np.ndarray  # (B, C) film index per channel
-    bubble_n_edges: np.ndarray  # (B, C + 1) film index at the band edges (band-averaged films)
-    band_edges: np.ndarray  # (C + 1,) band edges in nm
-    band_mode: int  # 1: bubbles use the band-averaged film (bubbleoptics.kernels.film_band_average)
-    bubble_film: np.ndarray  # (B, N_FILM_PARAMS)
-    film_maps: np.ndarray  # flat thickness tables
-    tris: np.ndarray  # (T, 3, 3) in BVH order
-    tri_info: np.ndarray  # (T, 4): outward unit normal, material index
-    bvh_bounds: np.ndarray
-    bvh_child: np.ndarray
-    bvh_first: np.ndarray
-    bvh_count: np.ndarray
-    mat_color: np.ndarray  # (M, C) reflectance per channel
-    mat_coef: np.ndarray  # (M, 6): ambient, diffuse, specular, transmission, shininess, ior
-    lights: np.ndarray  # (L, 3) positions
-    light_rad: np.ndarray  # (L, C) radiance factor per channel
-    env_kind: int
-    env_params: np.ndarray  # (16,)
-    env_image: np.ndarray  # (H, W, 3)
-    ambient: np.ndarray  # (C,)
-    camera: np.ndarray  # (13,)
-    eps: float
+_ENV_KINDS = {"constant": lay.ENV_CONSTANT, "sky": lay.ENV_SKY, "image": lay.ENV_IMAGE}
+_PROFILES = {"uniform": lay.PROFILE_UNIFORM, "draining": lay.PROFILE_DRAINING, "map": lay.PROFILE_MAP}
 
 
 #: Normalise the RGB -> bands basis (so that a colour entering the scene leaves as the same
@@ -174,21 +142,85 @@ def resolve_spectral_method(scene: Scene, spectral_samples, spectral_method="aut
     if spectral_method != "auto":
         return spectral_method
     for b in scene.bubbles:
-        n400 = float(water_refractive_index(400.0)) if isinstance(b.n_film, str) else float(b.n_film)
+        n400 = float(water_refractive_index(400.0)) if isinstance(b.n_film, str) else complex(b.n_film).real
         limit = float(point_sampling_limit_nm(int(spectral_samples), 400.0, 0.0, n400)) / AUTO_FRINGE_BANDS
         if film_thickness_bound_nm(b.film) > limit:
             return "band"
     return "point"
 
 
-def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_method="auto"):
+def _film_index(b, wavelengths):
+    """A bubble's film index n + ik at *wavelengths* (nm): water (Daimon & Masumura 2007) or a
+    constant (a real or complex number)."""
+    if isinstance(b.n_film, str):
+        if b.n_film != "water":
+            raise ValueError(f"bubble {b.name!r}: n_film must be a number or 'water' (got {b.n_film!r})")
+        return water_refractive_index(np.asarray(wavelengths, float)) + 0j
+    n = complex(b.n_film)
+    if not (math.isfinite(n.real) and math.isfinite(n.imag) and n.real > 0 and n.imag >= 0):
+        raise ValueError(f"bubble {b.name!r}: n_film must be finite with n > 0 and k >= 0 (got {b.n_film!r})")
+    return np.full(np.shape(wavelengths), n, dtype=complex)
+
+
+def _film_record(rec, fp, shininess, lossless, maps, map_size):
+    """Fill a FILM record from a FilmProfile; returns the new size of the flat map table."""
+    if fp.kind not in _PROFILES:
+        raise ValueError(f"unknown film kind {fp.kind!r}")
+    up = _unit(fp.up)
+    rec["profile"] = _PROFILES[fp.kind]
+    rec["thickness_nm"] = fp.thickness_nm
+    rec["top_nm"], rec["bottom_nm"], rec["exponent"] = fp.top_nm, fp.bottom_nm, fp.exponent
+    rec["swirl"], rec["swirl_scale"] = fp.swirl, fp.swirl_scale
+    rec["up"] = up
+    rec["ref"] = _perpendicular(up)
+    if fp.kind == "map":
+        table = np.asarray(fp.table, float)
+        rec["map_offset"], rec["map_rows"], rec["map_cols"] = map_size, table.shape[0], table.shape[1]
+        maps.append(table.ravel())
+        map_size += table.size
+    waves = np.random.default_rng(fp.seed).normal(size=(lay.N_SWIRL_WAVES, 3))
+    waves /= np.linalg.norm(waves, axis=1, keepdims=True)
+    phases = np.random.default_rng(fp.seed + 1).uniform(0, 2 * math.pi, lay.N_SWIRL_WAVES)
+    rec["waves"] = np.column_stack([waves, phases])
+    rec["shininess"] = shininess
+    rec["uniform"] = fp.kind == "uniform" and fp.swirl == 0.0
+    rec["lossless"] = lossless
+    return map_size
+
+
+def _environment_record(env):
+    if env.kind not in _ENV_KINDS:
+        raise ValueError(f"unknown environment kind {env.kind!r}")
+    rec = np.zeros(1, lay.ENVIRONMENT)
+    up = _unit(env.up)
+    xaxis = _perpendicular(up)
+    rec["kind"] = _ENV_KINDS[env.kind]
+    rec["color"] = env.color
+    rec["intensity"] = env.intensity
+    rec["up"] = up
+    rec["sun"] = _unit(env.sun_direction)
+    rec["xaxis"] = xaxis
+    rec["zaxis"] = np.cross(xaxis, up)
+    image = np.zeros((1, 1, 3)) if env.image is None else np.ascontiguousarray(env.image, dtype=float)
+    return rec, image
+
+
+def _camera_record(camera):
+    rec = np.zeros(1, lay.CAMERA)
+    origin, fwd, right, cup = camera.basis()
+    rec["origin"], rec["forward"], rec["right"], rec["up"] = origin, fwd, right, cup
+    rec["tan_half_fov"] = math.tan(math.radians(camera.fov_deg) / 2)
+    return rec
+
+
+def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_method="auto") -> PackedScene:
     """Pack *scene*; spectral transport if it has bubbles (or *force_spectral* is True).
 
     *spectral_method*: ``"point"`` evaluates each bubble film at the band centres; ``"band"``
     uses each band's film averaged in closed form over the band
     (:func:`bubbleoptics.kernels.film_band_average`), which does not alias on thick films;
-    ``"auto"`` chooses between them (:func:`resolve_spectral_method`).  ``Packed.band_mode``
-    records the choice.
+    ``"auto"`` chooses between them (:func:`resolve_spectral_method`).
+    ``PackedScene.band_mode`` records the choice.
     """
     spectral_method = resolve_spectral_method(scene, spectral_samples, spectral_method)
     spectral = bool(scene.bubbles) if force_spectral is None else bool(force_spectral)
@@ -196,19 +228,23 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     nc = basis.shape[0]
     edges = np.linspace(360.0, 780.0, nc + 1) if spectral else np.zeros(nc + 1)
 
+    # Phong materials, shared by identity
     materials = []
     mat_index = {}
 
     def material_id(m):
-        key = id(m)
-        if key not in mat_index:
-            mat_index[key] = len(materials)
+        if id(m) not in mat_index:
+            mat_index[id(m)] = len(materials)
             materials.append(m)
-        return mat_index[key]
+        return mat_index[id(m)]
 
-    spheres = np.array(
-        [[*s.center, s.radius, material_id(s.material)] for s in scene.spheres], dtype=float
-    ).reshape(-1, 5)
+    # spheres: the Phong spheres, then the bubbles (a sphere whose surface is a film)
+    nb = len(scene.bubbles)
+    spheres = np.zeros(len(scene.spheres) + nb, lay.SPHERE)
+    for i, s in enumerate(scene.spheres):
+        spheres[i] = (s.center, s.radius, lay.SURFACE_PHONG, material_id(s.material))
+    for b, bub in enumerate(scene.bubbles):
+        spheres[len(scene.spheres) + b] = (bub.center, bub.radius, lay.SURFACE_FILM, b)
 
     # triangles of all meshes, one BVH
     tri_list, info_list = [], []
@@ -221,80 +257,42 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
         keep = length > 0
         tri, nrm = tri[keep], nrm[keep] / length[keep, None]
         nrm = _convex_outward(v, f[keep], nrm)
-        mid = material_id(m.material)
+        info = np.zeros(len(tri), lay.TRIANGLE)
+        info["normal"] = nrm
+        info["surface"] = lay.SURFACE_PHONG
+        info["index"] = material_id(m.material)
         tri_list.append(tri)
-        info_list.append(np.column_stack([nrm, np.full(len(tri), mid, float)]))
+        info_list.append(info)
     tris = np.concatenate(tri_list) if tri_list else np.zeros((0, 3, 3))
-    info = np.concatenate(info_list) if info_list else np.zeros((0, 4))
+    triangles = np.concatenate(info_list) if info_list else np.zeros(0, lay.TRIANGLE)
     bvh = build_bvh(tris)
-    info = info[bvh.order] if len(info) else info
+    triangles = triangles[bvh.order] if len(triangles) else triangles
 
-    mat_color = np.array([basis @ np.asarray(m.color, float) for m in materials]).reshape(-1, nc)
-    mat_coef = np.array(
-        [[m.ambient, m.diffuse, m.specular, m.transmission, m.shininess, m.ior] for m in materials], float
-    ).reshape(-1, 6)
+    phong = np.zeros(len(materials), lay.PHONG)
+    for i, m in enumerate(materials):
+        phong[i] = (m.ambient, m.diffuse, m.specular, m.transmission, m.shininess, m.ior)
+    phong_color = np.array([basis @ np.asarray(m.color, float) for m in materials]).reshape(-1, nc)
 
-    # bubbles
-    nb = len(scene.bubbles)
-    bubbles = np.array([[*b.center, b.radius, b.shininess] for b in scene.bubbles], float).reshape(-1, 5)
-    bubble_n = np.empty((nb, nc))
-    bubble_n_edges = np.empty((nb, nc + 1))
-    bubble_film = np.zeros((nb, N_FILM_PARAMS))
+    # films
+    films = np.zeros(nb, lay.FILM)
+    film_n = np.empty((nb, nc), complex)
+    film_n_edges = np.empty((nb, nc + 1), complex)
     maps = []
     map_size = 0
-    rng_waves = np.random.default_rng
     for i, b in enumerate(scene.bubbles):
-        if isinstance(b.n_film, str):
-            if b.n_film != "water":
-                raise ValueError(f"bubble {b.name!r}: n_film must be a number or 'water' (got {b.n_film!r})")
-            bubble_n[i] = water_refractive_index(wl)
-            bubble_n_edges[i] = water_refractive_index(edges) if spectral else 1.333
-        else:
-            bubble_n[i] = float(b.n_film)
-            bubble_n_edges[i] = float(b.n_film)
-        fp = b.film
-        if fp.kind not in _FILM_KINDS:
-            raise ValueError(f"bubble {b.name!r}: unknown film kind {fp.kind!r}")
-        up = _unit(fp.up)
-        ref = _perpendicular(up)
-        row = bubble_film[i]
-        row[0] = _FILM_KINDS[fp.kind]
-        row[1] = fp.thickness_nm
-        row[2], row[3], row[4] = fp.top_nm, fp.bottom_nm, fp.exponent
-        row[5], row[6] = fp.swirl, fp.swirl_scale
-        row[7:10] = up
-        row[10:13] = ref
-        if fp.kind == "map":
-            table = np.asarray(fp.table, float)
-            row[13], row[14], row[15] = map_size, table.shape[0], table.shape[1]
-            maps.append(table.ravel())
-            map_size += table.size
-        waves = rng_waves(fp.seed).normal(size=(4, 3))
-        waves /= np.linalg.norm(waves, axis=1, keepdims=True)
-        phases = rng_waves(fp.seed + 1).uniform(0, 2 * math.pi, 4)
-        row[16:32] = np.column_stack([waves, phases]).ravel()
+        film_n[i] = _film_index(b, wl)
+        film_n_edges[i] = _film_index(b, edges) if spectral else film_n[i, 0]
+        lossless = not np.any(film_n[i].imag) and not np.any(film_n_edges[i].imag)
+        map_size = _film_record(films[i:i + 1], b.film, b.shininess, lossless, maps, map_size)
     film_maps = np.concatenate(maps) if maps else np.zeros(1)
 
-    lights = np.array([lt.position for lt in scene.lights], float).reshape(-1, 3)
-    light_rad = np.array([lt.intensity * (basis @ np.asarray(lt.color, float)) for lt in scene.lights]).reshape(-1, nc)
+    lights = np.zeros(len(scene.lights), lay.LIGHT)
+    for i, lt in enumerate(scene.lights):
+        lights[i]["position"] = lt.position
+    light_radiance = np.array([lt.intensity * (basis @ np.asarray(lt.color, float))
+                               for lt in scene.lights]).reshape(-1, nc)
 
-    env = scene.environment
-    if env.kind not in _ENV_KINDS:
-        raise ValueError(f"unknown environment kind {env.kind!r}")
-    up = _unit(env.up)
-    xaxis = _perpendicular(up)
-    zaxis = np.cross(xaxis, up)
-    env_params = np.zeros(16)
-    env_params[0:3] = env.color
-    env_params[3:6] = up
-    env_params[6:9] = _unit(env.sun_direction)
-    env_params[9] = env.intensity
-    env_params[10:13] = xaxis
-    env_params[13:16] = zaxis
-    env_image = np.zeros((1, 1, 3)) if env.image is None else np.ascontiguousarray(env.image, dtype=float)
-
-    origin, fwd, right, cup = scene.camera.basis()
-    camera = np.concatenate([origin, fwd, right, cup, [math.tan(math.radians(scene.camera.fov_deg) / 2)]])
+    environment, env_image = _environment_record(scene.environment)
 
     coords = [np.abs(np.asarray(scene.camera.position, float)).max()]
     for s in list(scene.spheres) + list(scene.bubbles):
@@ -303,33 +301,33 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
         coords.append(np.abs(tris).max())
     eps = origin_epsilon(scene.scale(), max(coords))
 
-    return Packed(
-        spectral=spectral,
-        wavelengths=wl,
-        to_rgb=np.ascontiguousarray(to_rgb),
-        rgb_basis=np.ascontiguousarray(basis),
+    c = np.ascontiguousarray
+    return PackedScene(
         spheres=spheres,
-        bubbles=bubbles,
-        bubble_n=bubble_n,
-        bubble_n_edges=bubble_n_edges,
-        band_edges=edges,
-        band_mode=int(spectral and spectral_method == "band"),
-        bubble_film=bubble_film,
-        film_maps=film_maps,
-        tris=np.ascontiguousarray(bvh.tris),
-        tri_info=np.ascontiguousarray(info),
+        tris=c(bvh.tris),
+        triangles=c(triangles),
         bvh_bounds=bvh.bounds,
         bvh_child=bvh.child,
         bvh_first=bvh.first,
         bvh_count=bvh.count,
-        mat_color=np.ascontiguousarray(mat_color),
-        mat_coef=mat_coef,
-        lights=lights,
-        light_rad=np.ascontiguousarray(light_rad),
-        env_kind=_ENV_KINDS[env.kind],
-        env_params=env_params,
-        env_image=env_image,
-        ambient=basis @ np.asarray(scene.ambient, float),
-        camera=camera,
         eps=float(eps),
+        phong=phong,
+        phong_color=c(phong_color),
+        films=films,
+        film_n=film_n,
+        film_n_edges=film_n_edges,
+        film_maps=film_maps,
+        lights=lights,
+        light_radiance=c(light_radiance),
+        ambient=c(basis @ np.asarray(scene.ambient, float)),
+        environment=environment,
+        env_image=env_image,
+        camera=_camera_record(scene.camera),
+        wavelengths=c(np.asarray(wl, float)),
+        band_edges=c(edges),
+        band_mode=int(spectral and spectral_method == "band"),
+        to_rgb=c(to_rgb),
+        rgb_basis=c(basis),
+        rgb_round_trip=c(to_rgb @ basis),
+        spectral=spectral,
     )

@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from .integrator import N_COUNTS, render_rows
-from .pack import Packed, pack_scene
+from .layout import RAY_COUNT_KINDS, PackedScene
+from .pack import pack_scene
 from .scene import Scene
 
 __all__ = ["render", "render_with_stats", "RenderStats", "save_image", "DEFAULTS"]
@@ -45,23 +46,38 @@ def _check_int(name, value, minimum):
     return int(value)
 
 
-def _call_rows(packed: Packed, row0, row1, width, height, spp, seed, depth, threshold, out, counts):
-    render_rows(
-        row0, row1, width, height, spp, seed, depth, threshold, packed.camera, packed.to_rgb,
-        packed.spheres, packed.bubbles, packed.bubble_n, packed.bubble_film, packed.film_maps, packed.tris,
-        packed.tri_info, packed.bvh_bounds, packed.bvh_child, packed.bvh_first, packed.bvh_count,
-        packed.mat_color, packed.mat_coef, packed.wavelengths,
-        packed.eps, packed.env_kind, packed.env_params, packed.env_image, packed.rgb_basis,
-        packed.lights, packed.light_rad, packed.ambient, np.array([packed.band_mode], dtype=np.int64),
-        packed.band_edges, packed.bubble_n_edges, out, counts,
-    )
+#: Rows per task handed to a thread at a time (numba's dynamic scheduling,
+#: :func:`numba.parallel_chunksize`): small enough to balance an image whose objects sit in
+#: one part of it, large enough that taking a task costs nothing.
+ROWS_PER_TASK = 4
+#: A render predicted to take longer than this (s) shows a progress bar and is split into
+#: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
+PROGRESS_AFTER = 0.5
+CALL_SECONDS = 0.25
 
 
-def warm_up(packed: Packed):
-    """Compile (or load from cache) the kernels for this scene's array types on a 1x1 image."""
-    out = np.zeros((1, 1, 3))
-    counts = np.zeros((1, N_COUNTS), dtype=np.int64)
-    _call_rows(packed, 0, 1, 1, 1, 1, 0, 1, 0.0, out, counts)
+def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts):
+    """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``."""
+    import numba
+
+    out = np.empty((rows.size, width, 3))
+    cnt = np.empty((rows.size, N_COUNTS), dtype=np.int64)
+    with numba.parallel_chunksize(ROWS_PER_TASK):
+        render_rows(packed, rows, width, height, spp, seed, depth, threshold, out, cnt)
+    image[rows] = out
+    counts[rows] = cnt
+
+
+def _interleaved(height, n_parts):
+    """The rows 0..height-1 split into *n_parts* interleaved sets (row r in part r % n_parts),
+    so that every part samples the whole image."""
+    return [np.arange(p, height, n_parts, dtype=np.int64) for p in range(n_parts)]
+
+
+def warm_up(packed: PackedScene):
+    """Compile (or load from numba's cache) the integrator for this scene on a 1x1 image."""
+    _rows_call(packed, np.zeros(1, dtype=np.int64), 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
+               np.zeros((1, N_COUNTS), dtype=np.int64))
 
 
 def render_with_stats(
@@ -87,30 +103,39 @@ def render_with_stats(
     seed = _check_int("seed", seed, 0)
     if not (threshold >= 0 and np.isfinite(threshold)):
         raise ValueError(f"threshold must be a finite number >= 0 (got {threshold!r})")
+    threshold = float(threshold)
     packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral,
                         spectral_method=spectral_method)
     warm_up(packed)
     image = np.zeros((height, width, 3))
     counts = np.zeros((height, N_COUNTS), dtype=np.int64)
-    chunk = max(1, min(height, 16))
-    show = sys.stderr.isatty() if progress is None else progress
+    t0 = time.perf_counter()
+    # a first call on every 16th row measures the scene; the rest in one call if short, else in
+    # interleaved parts of about CALL_SECONDS each behind a progress bar
+    first, *_ = _interleaved(height, min(16, height))
+    rest = np.setdiff1d(np.arange(height, dtype=np.int64), first)
+    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts)
+    per_row = (time.perf_counter() - t0) / first.size
+    predicted = per_row * rest.size
+    n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
+    show = (sys.stderr.isatty() if progress is None else progress) and predicted > PROGRESS_AFTER
     bar = None
     if show:
         from tqdm import tqdm
 
-        bar = tqdm(total=height, unit="row", desc="render", leave=False, file=sys.stderr, delay=0.5)
-    t0 = time.perf_counter()
-    for row0 in range(0, height, chunk):
-        row1 = min(height, row0 + chunk)
-        _call_rows(packed, row0, row1, width, height, spp, seed, depth, float(threshold), image[row0:row1],
-                   counts[row0:row1])
+        bar = tqdm(total=height, initial=first.size, unit="row", desc="render", leave=False, file=sys.stderr)
+    try:
+        for part in range(n_calls):
+            rows = rest[part::n_calls]
+            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts)
+            if bar is not None:
+                bar.update(rows.size)
+    finally:
         if bar is not None:
-            bar.update(row1 - row0)
+            bar.close()
     seconds = time.perf_counter() - t0
-    if bar is not None:
-        bar.close()
     total = counts.sum(axis=0)
-    rays = dict(camera=int(total[0]), reflected=int(total[1]), transmitted=int(total[2]), shadow=int(total[3]))
+    rays = {kind: int(n) for kind, n in zip(RAY_COUNT_KINDS, total)}
     rays["total"] = sum(rays.values())
     method = ("band" if packed.band_mode else "point") if packed.spectral else ""
     return image, RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0], method)

@@ -9,6 +9,8 @@ import math
 import numpy as np
 from numba import njit
 
+__all__ = ["uniform", "stratified_offset", "camera_ray"]
+
 _JIT = dict(cache=True, error_model="numpy")
 
 _M1 = np.uint64(0x9E3779B97F4A7C15)
@@ -52,15 +54,18 @@ def stratified_offset(seed, pixel, sample, spp):
 def camera_ray(cam, px, py, width, height):
     """Unit direction of the ray through image point (px, py) (pixels, origin top-left).
 
-    *cam* is a float array: origin (0:3), forward (3:6), right (6:9), up (9:12),
-    tan(fov_y/2) (12).  Image rows go down the camera's up vector.
+    *cam* is a :data:`tracer.layout.CAMERA` record: origin, forward, right and up unit
+    vectors, tan(fov_y / 2).  Image rows go down the camera's up vector.
     """
-    th = cam[12]
+    th = cam.tan_half_fov
     aspect = width / height
     sx = (2.0 * px / width - 1.0) * th * aspect
     sy = (1.0 - 2.0 * py / height) * th
-    dx = cam[3] + sx * cam[6] + sy * cam[9]
-    dy = cam[4] + sx * cam[7] + sy * cam[10]
-    dz = cam[5] + sx * cam[8] + sy * cam[11]
+    f = cam.forward
+    r = cam.right
+    u = cam.up
+    dx = f[0] + sx * r[0] + sy * u[0]
+    dy = f[1] + sx * r[1] + sy * u[1]
+    dz = f[2] + sx * r[2] + sy * u[2]
     inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
     return (dx * inv, dy * inv, dz * inv)
