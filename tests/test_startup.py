@@ -26,6 +26,7 @@ def test_importing_bubbleoptics_and_loading_a_scene_do_not_import_colour_science
             "import bubbleoptics as bo, tracer\n"
             "bo.band_spectral_weights(16); bo.rgb_reflectance_basis(16)\n"
             "tracer.load_scene('data/scenes/bubbles_sky.toml')\n"
+            "tracer.load_scene('data/coursework_scenes/listing_3_2.txt')  # 8-bit sRGB colours\n"
             "heavy = ('colour', 'scipy', 'matplotlib', 'trimesh')\n"
             "print(sorted({m.split('.')[0] for m in set(sys.modules) - before if m.startswith(heavy)}))\n")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
