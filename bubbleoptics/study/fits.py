@@ -1,46 +1,30 @@
-"""Analysis helpers for the studies: the seed's timing table, growth-law fits, Pareto fronts, ΔE00.
+"""Growth laws of run time against trace depth, fitted and compared.
 
-Shared by the notebooks (``notebooks/03_depth_timing.ipynb``, ``04_...``) and the paper's figure
-scripts (``paper/scripts/``), so that a number in the paper and the same number in a notebook are
-computed by one piece of code.  Nothing here renders; the inputs are files in ``data/`` and arrays.
-
-Contents
---------
-* :func:`load_seed_table` — the seed coursework's table 4.1 (``data/seed_table_4_1.csv``);
-  :func:`load_timing` and :func:`timing_series` — our re-run of it
-  (``data/derived/seed_table.csv``, written by ``benchmarks/seed_table.py``).
-* Growth laws of run time *t* against trace depth *d*: :func:`fit_polynomial` (the seed's
-  fourth-degree polynomial, its figure 4.1), :func:`fit_exponential` (*t = a·bᵈ*),
-  :func:`fit_affine_exponential` (*t = a + c·bᵈ*), and :func:`compare_fits` (AIC, AICc, BIC).
-* :func:`pareto_front` — the non-dominated (time, error) points of a trade-off study.
-* :func:`delta_e00` — per-pixel CIEDE2000 between two linear-sRGB images (colour-science).
+*t(d)*, the run time *t* (s) of a render against its trace depth *d* (an integer ≥ 1, the number
+of ray levels): :func:`fit_polynomial` (the coursework's fourth-degree polynomial, its figure
+4.1), :func:`fit_exponential` (*t = a·bᵈ*), :func:`fit_affine_exponential` (*t = a + c·bᵈ*),
+ranked by :func:`compare_fits` (AIC, AICc, BIC), and :func:`holdout_errors` (fitted on the
+shallow depths, tested on the deep ones).
 
 Why an exponential: a Whitted tracer spawns a reflected and a refracted ray at every hit (the
-seed's listings 3.3-3.4), so the rays alive at recursion level *d* multiply by an effective
-branching factor *b* per level and the work up to depth *d* is a geometric sum,
+coursework's listings 3.3-3.4), so the rays alive at recursion level *d* multiply by an
+effective branching factor *b* per level and the work up to depth *d* is a geometric sum,
 *t(d) = a + c·bᵈ* (*a*: the per-pixel cost independent of depth, camera rays and the image;
 *c·bᵈ*: the tree).  A quartic has five free coefficients and no such structure: on ten points it
 interpolates, but it does not extrapolate (see :func:`holdout_errors`).
 
-Units: depth is the trace depth (an integer ≥ 1, the number of ray levels), times in seconds.
+scipy is imported inside the exponential fits only (``import bubbleoptics.study`` stays light).
 """
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 __all__ = [
-    "SEED_COLUMNS",
-    "read_commented_csv",
-    "load_seed_table",
-    "load_timing",
-    "timing_series",
     "Fit",
     "fit_polynomial",
     "fit_exponential",
@@ -48,142 +32,7 @@ __all__ = [
     "Comparison",
     "compare_fits",
     "holdout_errors",
-    "pareto_front",
-    "delta_e00",
 ]
-
-_ROOT = Path(__file__).resolve().parents[1]
-_SEED_TABLE = _ROOT / "data" / "seed_table_4_1.csv"
-_TIMING = _ROOT / "data" / "derived" / "seed_table.csv"
-
-#: Column of ``data/seed_table_4_1.csv`` for each number of bubbles.
-SEED_COLUMNS = {1: "one_bubble", 2: "two_bubbles", 3: "three_bubbles"}
-
-_INT_COLUMNS = ("bubbles", "depth", "width", "height", "rays_camera", "rays_reflected", "rays_transmitted",
-                "rays_shadow", "rays_total")
-_MODES = ("pruned", "exhaustive")
-
-
-# --------------------------------------------------------------------------------------------
-# data
-
-
-def read_commented_csv(path):
-    """(comment lines without '# ', rows as dicts of strings) of a CSV whose leading lines start
-    with '#': the provenance comment every benchmark writes (``benchmarks/_results.py``)."""
-    lines = Path(path).read_text(encoding="utf-8").splitlines()
-    notes = [ln.lstrip("#").strip() for ln in lines if ln.startswith("#")]
-    rows = list(csv.DictReader(ln for ln in lines if ln.strip() and not ln.startswith("#")))
-    return notes, rows
-
-
-def load_seed_table(path=None):
-    """The seed coursework's table 4.1: run time (s) against trace depth for 1, 2 and 3 bubbles.
-
-    Source: the seed's table 4.1 (960×960 PNG, Apple M3 Pro), transcribed in
-    ``data/seed_table_4_1.csv`` (provenance in ``data/README.md``).  The seed fitted a
-    fourth-degree polynomial to each column (its figure 4.1).
-
-    Parameters
-    ----------
-    path : path of the CSV (default: ``data/seed_table_4_1.csv`` of this checkout).
-
-    Returns
-    -------
-    dict with ``"depth"`` (int array, 1..10), ``"seconds"`` (dict: number of bubbles -> float
-    array of times in s, one per depth) and ``"notes"`` (the file's header comments, a list of
-    str: machine, units argument).
-
-    Example
-    -------
-    >>> seed = load_seed_table()
-    >>> seed["depth"].tolist()[:3], float(seed["seconds"][3][-1])
-    ([1, 2, 3], 1889.56)
-    """
-    notes, rows = read_commented_csv(_SEED_TABLE if path is None else path)
-    depth = np.array([int(r["depth"]) for r in rows])
-    order = np.argsort(depth)
-    seconds = {nb: np.array([float(r[col]) for r in rows])[order] for nb, col in SEED_COLUMNS.items()}
-    return {"depth": depth[order], "seconds": seconds, "notes": notes}
-
-
-def _number(text, integer):
-    text = (text or "").strip()
-    if text == "":
-        return None if integer else math.nan
-    return int(float(text)) if integer else float(text)
-
-
-def load_timing(path=None):
-    """Our re-run of the seed's table 4.1, as written by ``benchmarks/seed_table.py``.
-
-    The file (``data/derived/seed_table.csv``; regenerate with ``python benchmarks/seed_table.py``
-    or ``make bench``) has one row per (bubbles, depth, mode) with mode ``"pruned"`` (the default
-    threshold) or ``"exhaustive"`` (threshold 0: the seed's full ray tree), and extra rows of
-    other kinds (a fresh process timed from start to a saved image).
-
-    Parameters
-    ----------
-    path : path of the CSV (default: ``data/derived/seed_table.csv`` of this checkout).
-
-    Returns
-    -------
-    dict of column name -> numpy array over the pruned and exhaustive rows (``bubbles``,
-    ``depth``, ``width``, ``height`` and the ``rays_*`` counts as int; ``mode`` as str;
-    ``threshold``, ``seconds_median``, ``seed_seconds``, ``speedup_vs_seed`` as float), plus
-    ``"seconds_runs"`` (float array, rows × repeats, NaN-padded), ``"extra"`` (list of dicts: the
-    other rows, numbers parsed, empty cells None/NaN) and ``"notes"`` (header comments).
-
-    Example
-    -------
-    >>> timing = load_timing()
-    >>> sorted(set(timing["mode"].tolist()))
-    ['exhaustive', 'pruned']
-    """
-    notes, rows = read_commented_csv(_TIMING if path is None else path)
-    main = [r for r in rows if r["mode"] in _MODES]
-    extra = [r for r in rows if r["mode"] not in _MODES]
-    if not main:
-        raise ValueError(f"{path or _TIMING}: no pruned or exhaustive rows")
-    out = {}
-    for name in main[0]:
-        if name in ("mode", "seconds_runs"):
-            continue
-        integer = name in _INT_COLUMNS
-        out[name] = np.array([_number(r[name], integer) for r in main], dtype=int if integer else float)
-    out["mode"] = np.array([r["mode"] for r in main])
-    runs = [[float(v) for v in r["seconds_runs"].split()] for r in main]
-    width = max(len(v) for v in runs)
-    out["seconds_runs"] = np.array([v + [math.nan] * (width - len(v)) for v in runs])
-    out["extra"] = [
-        {k: (v if k in ("mode", "seconds_runs") else _number(v, k in _INT_COLUMNS)) for k, v in r.items()}
-        for r in extra
-    ]
-    out["notes"] = notes
-    return out
-
-
-def timing_series(timing, bubbles, mode, column="seconds_median"):
-    """``(depth, values)`` of one column of :func:`load_timing`'s result, sorted by depth.
-
-    Example
-    -------
-    >>> d, t = timing_series(load_timing(), 3, "exhaustive")
-    >>> d.tolist() == list(range(1, 11)), bool(np.all(t > 0))
-    (True, True)
-    """
-    if mode not in _MODES:
-        raise ValueError(f"mode must be one of {_MODES} (got {mode!r})")
-    pick = (timing["bubbles"] == bubbles) & (timing["mode"] == mode)
-    if not pick.any():
-        raise ValueError(f"no rows for {bubbles} bubble(s), mode {mode!r}")
-    depth = timing["depth"][pick]
-    order = np.argsort(depth)
-    return depth[order], np.asarray(timing[column])[pick][order]
-
-
-# --------------------------------------------------------------------------------------------
-# fits
 
 
 @dataclass(frozen=True)
@@ -270,11 +119,11 @@ def _scaled_covariance(jacobian, weighted_residuals):
 
 
 def fit_polynomial(depth, seconds, degree=4, *, relative=False):
-    """Least-squares polynomial *t = Σⱼ cⱼ dʲ*, j = 0..degree: the seed's figure 4.1 (degree 4).
+    """Least-squares polynomial *t = Σⱼ cⱼ dʲ*, j = 0..degree: the coursework's figure 4.1 (degree 4).
 
     Fitted with ``numpy.polynomial.Polynomial.fit`` (a scaled, well-conditioned basis), then
     converted to the unscaled basis for ``coef`` (ascending powers).  By default the residuals
-    are absolute, as in the seed (ordinary least squares on the times); ``relative=True``
+    are absolute, as in the coursework (ordinary least squares on the times); ``relative=True``
     weights each point by 1/t, i.e. minimises Σ((t − t̂)/t)².
 
     Parameters
@@ -477,8 +326,9 @@ def compare_fits(depth, seconds, fits=None, *, relative=True, criterion="aicc"):
 
     Example
     -------
-    >>> seed = load_seed_table()
-    >>> compare_fits(seed["depth"], seed["seconds"][1]).best
+    >>> d = np.arange(1.0, 11.0)
+    >>> noise = 1 + 0.01 * np.random.default_rng(0).standard_normal(d.size)
+    >>> compare_fits(d, (10.0 + 2.0 * 1.7**d) * noise).best
     'affine exponential'
     """
     if criterion not in ("aic", "aicc", "bic"):
@@ -532,85 +382,3 @@ def holdout_errors(fitter, depth, seconds, max_train_depth, **kwargs):
         raise ValueError(f"no depths above {max_train_depth} to hold out")
     fit = fitter(x[train], y[train], **kwargs)
     return x[~train], fit.predict(x[~train]) / y[~train] - 1.0
-
-
-# --------------------------------------------------------------------------------------------
-# trade-offs and colour
-
-
-def pareto_front(times, errors):
-    """Indices of the non-dominated points of a (time, error) trade-off, both to be minimised.
-
-    Point *i* is dominated if some *j* has ``times[j] <= times[i]`` and ``errors[j] <=
-    errors[i]`` with at least one strict inequality.  Exact duplicates do not dominate each
-    other (both are kept); points with a NaN are ignored.  O(n log n): sort by time, then
-    error, and keep each point whose error is below every faster point's.
-
-    Returns
-    -------
-    int array of indices into the inputs, ordered by increasing time (decreasing error).
-
-    Example
-    -------
-    >>> pareto_front([1.0, 2.0, 3.0, 2.5], [5.0, 3.0, 1.0, 4.0]).tolist()
-    [0, 1, 2]
-    """
-    t = np.asarray(times, dtype=float).ravel()
-    e = np.asarray(errors, dtype=float).ravel()
-    if t.shape != e.shape:
-        raise ValueError(f"times and errors must have the same length (got {t.size} and {e.size})")
-    valid = np.flatnonzero(~(np.isnan(t) | np.isnan(e)))
-    order = valid[np.lexsort((e[valid], t[valid]))]
-    front = []
-    best_before = math.inf  # lowest error among points strictly faster than the current time
-    i = 0
-    while i < order.size:
-        j = i
-        while j < order.size and t[order[j]] == t[order[i]]:
-            j += 1
-        group = order[i:j]  # equal times, sorted by error
-        lowest = e[group[0]]
-        if lowest < best_before:
-            front.extend(int(k) for k in group if e[k] == lowest)
-        best_before = min(best_before, lowest)
-        i = j
-    return np.array(front, dtype=int)
-
-
-def delta_e00(rgb_a, rgb_b):
-    """Per-pixel CIEDE2000 colour difference ΔE00 between two linear-sRGB images.
-
-    Each image (array ``(..., 3)``, linear sRGB, *not* gamma-encoded; the tracer's output) is
-    converted to CIE XYZ with the sRGB primaries and D65 white (``colour.RGB_to_XYZ``, no
-    decoding), then to CIE L*a*b* relative to D65 (``colour.XYZ_to_Lab``), and compared with
-    ``colour.delta_E(..., method="CIE 2000")`` (CIE 142-2001; Sharma, Wu & Dalal 2005, Color
-    Res. Appl. 30, 21).  Values are absolute: linear RGB (1, 1, 1) is white with Y = 1 and
-    L* = 100, so scale HDR images by the same exposure before comparing.  About 1-2 is a
-    just-noticeable difference side by side.
-
-    Returns
-    -------
-    ndarray of shape ``broadcast(rgb_a, rgb_b).shape[:-1]``.
-
-    Example
-    -------
-    >>> a = np.full((2, 2, 3), 0.5)
-    >>> delta_e00(a, a).tolist()
-    [[0.0, 0.0], [0.0, 0.0]]
-    """
-    import colour
-
-    a = np.asarray(rgb_a, dtype=float)
-    b = np.asarray(rgb_b, dtype=float)
-    if a.shape[-1:] != (3,) or b.shape[-1:] != (3,):
-        raise ValueError(f"images must have 3 channels in the last axis (got {a.shape} and {b.shape})")
-    a, b = np.broadcast_arrays(a, b)
-    space = colour.RGB_COLOURSPACES["sRGB"]
-    white = space.whitepoint
-
-    def lab(rgb):
-        XYZ = colour.RGB_to_XYZ(rgb, space, illuminant=white, chromatic_adaptation_transform=None,
-                                apply_cctf_decoding=False)
-        return colour.XYZ_to_Lab(XYZ, white)
-
-    return np.asarray(colour.delta_E(lab(a), lab(b), method="CIE 2000"), dtype=float)

@@ -2,7 +2,10 @@
 
 What this module is
 -------------------
-Two kinds of reference, used only by the tests (the package never imports this file):
+Two kinds of reference, against which the tests (``tests/test_reference_*.py``) and the
+stress benchmark (``benchmarks/stability.py``, notebook 05) check the package's fast kernels.
+It needs the ``test`` extra (``pip install 'bubbleoptics[test]'``: ``mpmath``, ``tmm``); nothing
+imports it unless asked (``from bubbleoptics.study import reference``).
 
 1. ``*_mp`` functions: the textbook formulas evaluated in arbitrary precision with
    ``mpmath`` (default 40 significant digits).  Every float64 input is first converted
@@ -50,8 +53,9 @@ Two kinds of reference, used only by the tests (the package never imports this f
 
 Why it is independent
 ---------------------
-Nothing here calls ``bubbleoptics``; the mpmath code shares no code and no numerical
-strategy with the package's float64/numba kernels (no float64 arithmetic at all after
+Nothing here imports or calls the rest of ``bubbleoptics`` (``tests/test_study_package.py``
+checks the imports); the mpmath code shares no code and no numerical strategy with the
+package's float64/numba kernels (no float64 arithmetic at all after
 the exact input conversion), and ``tmm`` is a third-party implementation.  The single-film
 Airy formula and the multilayer matrix product are two different formulations and are
 cross-checked against each other and against ``tmm`` in ``tests/test_reference_tmm.py``.
@@ -66,7 +70,11 @@ from __future__ import annotations
 
 import math
 
-import mpmath
+try:
+    import mpmath
+except ImportError as exc:  # the test extra is not installed
+    raise ImportError("bubbleoptics.study.reference needs mpmath (and tmm for the tmm_* functions): "
+                      "pip install 'bubbleoptics[test]'") from exc
 
 __all__ = [
     "POLARIZATIONS",
@@ -232,6 +240,12 @@ def film_rt_mp(wavelength_nm, thickness_nm, theta, n_film, n_outside=1.0, n_insi
     §1.5 in tmm's (Byrnes, arXiv:1603.02720) sign convention; "unpolarized" is the mean of the
     s and p powers (Born & Wolf §10.8 -- incoherent superposition of two orthogonal
     polarizations).
+
+    Example
+    -------
+    >>> R, T = film_rt_mp(550.0, 0.0, 0.0, 1.5, 1.0, 1.5)   # no film: the bare air | glass interface
+    >>> float(R), float(T)
+    (0.04, 0.96)
     """
     _check_pol(polarization)
     with mpmath.workdps(dps):
@@ -292,7 +306,10 @@ def multilayer_rt_mp(wavelength_nm, n_layers, thicknesses_nm, theta, n_outside=1
 
 # ----------------------------------------------------------------------------- tmm wrappers
 def _tmm_pol(pol, n_list, d_list, theta, lam):
-    import tmm  # third-party reference (S. J. Byrnes); imported lazily
+    try:
+        import tmm  # third-party reference (S. J. Byrnes); imported lazily
+    except ImportError as exc:
+        raise ImportError("the tmm_* references need tmm: pip install 'bubbleoptics[test]'") from exc
 
     out = tmm.coh_tmm(pol, n_list, d_list, float(theta), float(lam))
     return float(out["R"]), float(out["T"])

@@ -1,0 +1,503 @@
+"""Run time against error: the tracer's settings against a converged reference render.
+
+The analysis of ``benchmarks/time_vs_error.py`` (which renders and writes
+``data/derived/time_vs_error.csv`` with the reference images), of notebook 04 and of the paper
+(``paper/scripts/fig_time_vs_error.py``, ``make_numbers.py``).  Nothing here renders or imports
+the tracer: settings are dicts, images arrays, and :func:`render_kwargs` turns a setting into the
+keyword arguments of ``tracer.render_with_stats``.
+
+* **Settings** (:func:`configurations`): one factor at a time around the defaults -- spectral
+  sampling (RGB transport, 3-81 point-sampled bands, 3-16 band-averaged bands), pruning
+  threshold, samples per pixel, trace depth -- plus a small grid of combined settings.  The
+  reference (:data:`REFERENCE`): the exhaustive tree (threshold 0), 421 bands of 1 nm over
+  360-780 nm, 16 stratified samples per pixel, depth 16, seed 1 (the swept renders use seed 0).
+* **Errors** (:func:`image_errors`): per-pixel CIEDE2000 on linear sRGB with negative values
+  clipped to 0 (:func:`bubbleoptics.study.delta_e00_images`), its mean and 95th percentile, and
+  the RMSE in linear sRGB; non-finite pixels counted and set to 0.  The same on *interior*
+  pixels (:func:`interior_mask`): pixels none of whose 3 x 3 neighbourhood changes by
+  :data:`AA_DE00` (1 ΔE00) or more when the reference's transport is rendered with one sample
+  per pixel instead of 16 -- away from every edge that anti-aliasing changes, where the error is
+  the transport's.  (A plain edge detector on the reference's colours, :func:`contrast_mask`,
+  would also discard the films' interference fringes, i.e. most of each bubble.)
+* **The front and the defaults** (:func:`assess`): a setting qualifies when on every scene it
+  meets the targets (mean ΔE00 <= :data:`TARGET_MEAN_DE00`, at least :data:`TARGET_SPEEDUP`
+  times faster than the reference) and no other setting is as accurate and faster by more than
+  the timing noise (:func:`timing_tolerance`); the proposal is the most accurate qualifying
+  setting among those within that noise of the fastest.
+"""
+
+from __future__ import annotations
+
+import datetime
+import inspect
+import io
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .fronts import pareto_front
+from .metrics import delta_e00_images, finite_image, rmse
+from .results import read_commented_csv
+
+__all__ = [
+    "REFERENCE", "AA_DE00", "CONTRAST_DE00", "TARGET_MEAN_DE00", "TARGET_SPEEDUP", "COLUMNS", "SCENE_LABELS",
+    "CACHE_REFS_DIR", "REFS_MAX_BYTES",
+    "settings_from_defaults", "accepts_spectral_method", "key", "row_key", "describe", "configurations",
+    "render_kwargs",
+    "contrast_mask", "interior_mask", "image_errors",
+    "reference_settings", "load_references", "save_references", "read_rows", "summary_table",
+    "timing_tolerance", "scene_points", "front", "dominators", "assess", "change_advice", "scene_front",
+]
+
+#: The reference render: exhaustive, 1 nm bands (421 over 360-780 nm), 16 spp, depth 16.
+REFERENCE = dict(spectral=True, spectral_samples=421, spectral_method="point", threshold=0.0, spp=16, depth=16,
+                 seed=1)
+
+#: The swept values of each factor (the others held at the defaults).
+SPECTRAL_POINT = (3, 4, 8, 16, 32, 81)
+SPECTRAL_BAND = (3, 4, 8, 16)
+THRESHOLDS = (0.0, 1e-4, 1e-3, 1e-2, 3e-2, 0.1)
+SPPS = (1, 4, 9, 16)
+DEPTHS = (1, 2, 3, 4, 6, 8, 10)
+#: The combined grid (x spectral methods): spectral samples x threshold x spp.
+GRID = dict(spectral_samples=(8, 16), threshold=(1e-3, 1e-2), spp=(1, 4))
+
+#: A pixel is *interior* when anti-aliasing changes no pixel of its 3 x 3 neighbourhood by
+#: AA_DE00 or more (CIEDE2000; see :func:`interior_mask`).  About one just-noticeable difference.
+AA_DE00 = 1.0
+#: Threshold of the plain colour-contrast edge detector :func:`contrast_mask` (for comparison).
+CONTRAST_DE00 = 5.0
+
+#: Targets of the study: mean ΔE00 at most this, at least this many times faster than the reference.
+TARGET_MEAN_DE00 = 0.5
+TARGET_SPEEDUP = 20.0
+
+
+#: Where reference images go when they would take REFS_MAX_BYTES or more (outside any repository).
+CACHE_REFS_DIR = (Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+                  / "bubbleoptics" / "time_vs_error_refs")
+REFS_MAX_BYTES = 2_000_000
+
+COLUMNS = (
+    "scene", "factor", "value", "transport", "spectral_samples", "spectral_method", "threshold", "spp", "depth",
+    "width", "height", "seconds", "seconds_runs", "mean_de00", "p95_de00", "max_de00", "rmse",
+    "interior_mean_de00", "interior_p95_de00", "interior_rmse", "interior_fraction", "nonfinite_pixels",
+    "rays_total", "reference_seconds", "speedup_vs_reference", "is_default",
+)
+
+SCENE_LABELS = {"builtin": "built-in scene (3 bubbles)", "bubbles": "six bubbles (gallery)",
+                "materials": "bubble and spheres (materials)"}
+
+
+def settings_from_defaults(defaults):
+    """A renderer's defaults (a dict like ``tracer.DEFAULTS``) as a setting of this study.
+
+    Example
+    -------
+    >>> settings_from_defaults(dict(spectral_samples=16, threshold=1e-3, spp=1, depth=10))["spectral_method"]
+    'point'
+    """
+    d = defaults
+    return dict(spectral=True, spectral_samples=int(d["spectral_samples"]),
+                spectral_method=str(d.get("spectral_method", "point")), threshold=float(d["threshold"]),
+                spp=int(d["spp"]), depth=int(d["depth"]))
+
+
+def accepts_spectral_method(render):
+    """Whether the renderer function *render* (``tracer.render_with_stats``) takes
+    ``spectral_method``, i.e. offers band-averaged films."""
+    return "spectral_method" in inspect.signature(render).parameters
+
+
+def key(s):
+    """A hashable identity of a setting (RGB transport ignores the spectral fields)."""
+    if not s["spectral"]:
+        return ("rgb", 0, "", float(s["threshold"]), int(s["spp"]), int(s["depth"]))
+    return ("spectral", int(s["spectral_samples"]), s["spectral_method"], float(s["threshold"]), int(s["spp"]),
+            int(s["depth"]))
+
+
+def configurations(defaults, band=True):
+    """[(factor, value, setting)] of the study: one-factor sweeps around the defaults, then the grid.
+
+    A setting is a dict with ``spectral`` (bool: spectral or RGB transport), ``spectral_samples``,
+    ``spectral_method`` (``"point"``: film at the band centre; ``"band"``: band-averaged film;
+    ``"auto"``: the tracer's choice between them, ``tracer.pack.resolve_spectral_method``),
+    ``threshold``, ``spp`` and ``depth`` (:func:`settings_from_defaults`).  *defaults*: the
+    setting the sweeps are centred on; *band*: include the band-averaged method (when the
+    renderer accepts it, :func:`accepts_spectral_method`).  Settings repeat across factors
+    (every sweep passes through the defaults); the benchmark renders each distinct one once.
+
+    Example
+    -------
+    >>> centre = dict(spectral=True, spectral_samples=16, spectral_method="auto", threshold=1e-3, spp=1, depth=10)
+    >>> configs = configurations(centre)
+    >>> configs[0][:2], len({key(s) for _, _, s in configs}) < len(configs)
+    (('default', 'default'), True)
+    """
+    centre = dict(defaults)
+    out = [("default", "default", dict(centre))]
+    out.append(("spectral", "rgb", dict(centre, spectral=False)))
+    for n in SPECTRAL_POINT:
+        # at the default band count the sweep passes through the defaults themselves, whose method
+        # may be "auto" (point sampling unless a film aliases: on the study's scenes, point)
+        same = n == centre["spectral_samples"] and centre["spectral_method"] == "auto"
+        out.append(("spectral", f"{n}", dict(centre) if same else dict(centre, spectral_samples=n,
+                                                                         spectral_method="point")))
+    if band:
+        for n in SPECTRAL_BAND:
+            out.append(("spectral", f"{n} band", dict(centre, spectral_samples=n, spectral_method="band")))
+    for t in THRESHOLDS:
+        out.append(("threshold", f"{t:g}", dict(centre, threshold=t)))
+    for s in SPPS:
+        out.append(("spp", f"{s}", dict(centre, spp=s)))
+    for d in DEPTHS:
+        out.append(("depth", f"{d}", dict(centre, depth=d)))
+    methods = ("point", "band") if band else ("point",)
+    for m in methods:
+        for n in GRID["spectral_samples"]:
+            for t in GRID["threshold"]:
+                for s in GRID["spp"]:
+                    label = f"{n}{' band' if m == 'band' else ''} / {t:g} / {s} spp"
+                    out.append(("grid", label, dict(centre, spectral_samples=n, spectral_method=m, threshold=t, spp=s)))
+    return out
+
+
+def render_kwargs(s, size, seed=0):
+    """Keyword arguments of ``tracer.render`` / ``tracer.render_with_stats`` for setting *s*, a
+    *size* x *size* image and the sampling *seed*."""
+    kw = dict(width=size, height=size, depth=int(s["depth"]), spp=int(s["spp"]), threshold=float(s["threshold"]),
+              seed=seed, spectral=bool(s["spectral"]), progress=False)
+    if s["spectral"]:
+        kw["spectral_samples"] = int(s["spectral_samples"])
+        kw["spectral_method"] = s["spectral_method"]  # always: the tracer's default may be "auto"
+    return kw
+
+
+# ------------------------------------------------------------------------------------------
+# Errors
+# ------------------------------------------------------------------------------------------
+def contrast_mask(reference, edge_de00=CONTRAST_DE00):
+    """Boolean (H, W): pixels whose 3 x 3 neighbourhood in *reference* stays within *edge_de00*.
+
+    For each pixel, the largest ΔE00 between it and its eight neighbours (edges replicated at
+    the image border).  A plain edge detector on the reference's colours; *not* the study's
+    interior (:func:`interior_mask`), because a film's interference fringes are edges of
+    colour too (the notebook compares the two).
+    """
+    ref = np.clip(np.asarray(reference, dtype=float), 0.0, None)
+    h, w, _ = ref.shape
+    padded = np.pad(ref, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    contrast = np.zeros((h, w))
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            if dy == 0 and dx == 0:
+                continue
+            shifted = padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+            contrast = np.maximum(contrast, delta_e00_images(shifted, ref))
+    return contrast < edge_de00
+
+
+def interior_mask(reference, reference_1spp, aa_de00=AA_DE00):
+    """Boolean (H, W): pixels away from every edge that anti-aliasing changes.
+
+    *reference_1spp* is the reference's transport (1 nm bands, exhaustive, depth 16) with one
+    sample per pixel, at the pixel centre; its ΔE00 against the reference is the error that
+    no spectral, pruning or depth setting removes at 1 spp (silhouettes, reflected edges,
+    highlights smaller than a pixel).  Pixels where that is *aa_de00* or more are edges; a
+    pixel is interior when its whole 3 x 3 neighbourhood is free of edges (the silhouettes
+    eroded by one pixel).
+    """
+    edge = delta_e00_images(reference_1spp, reference) >= aa_de00
+    h, w = edge.shape
+    padded = np.pad(edge, 1, mode="edge")
+    near = np.zeros_like(edge)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            near |= padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+    return ~near
+
+
+def image_errors(image, reference, interior):
+    """Error metrics of *image* against *reference*, over all pixels and over the *interior* ones
+    (module docstring): ``mean_de00``, ``p95_de00``, ``max_de00``, ``rmse``, their ``interior_``
+    versions (NaN when no pixel is interior), ``interior_fraction`` and ``nonfinite_pixels``."""
+    image, bad = finite_image(image)
+    de = delta_e00_images(image, reference)
+    out = dict(mean_de00=float(de.mean()), p95_de00=float(np.percentile(de, 95)), max_de00=float(de.max()),
+               rmse=rmse(image, reference), nonfinite_pixels=bad, interior_fraction=float(interior.mean()))
+    if interior.any():
+        out.update(interior_mean_de00=float(de[interior].mean()),
+                   interior_p95_de00=float(np.percentile(de[interior], 95)),
+                   interior_rmse=rmse(image[interior], reference[interior]))
+    else:
+        out.update(interior_mean_de00=math.nan, interior_p95_de00=math.nan, interior_rmse=math.nan)
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# Files
+# ------------------------------------------------------------------------------------------
+def reference_settings(size, spp):
+    """What identifies a set of references: image size, :data:`REFERENCE` with *spp*, :data:`AA_DE00`."""
+    return dict(size=size, reference=dict(REFERENCE, spp=spp), aa_de00=AA_DE00)
+
+
+def load_references(folder, size, spp):
+    """{scene: reference dict} from *folder* (written by :func:`save_references`) if it holds
+    references made with these settings (:func:`reference_settings`), else None.
+
+    The images come back as saved (float32 widened to float64); ``image_1spp`` is not saved
+    (its errors and time are).
+    """
+    folder = Path(folder)
+    meta_path = folder / "meta.json"
+    if not meta_path.exists():
+        return None
+    meta = json.loads(meta_path.read_text())
+    if {k: meta.get(k) for k in ("size", "reference", "aa_de00")} != reference_settings(size, spp):
+        return None
+    out = {}
+    for name, info in meta.get("scenes", {}).items():
+        if not (folder / f"{name}.npy").exists() or not (folder / f"{name}_interior.npy").exists():
+            return None
+        out[name] = dict(image=np.load(folder / f"{name}.npy").astype(float),
+                         interior=np.load(folder / f"{name}_interior.npy"), image_1spp=None, **info)
+    return out
+
+
+def save_references(refs, size, spp, folder, overflow=None, max_bytes=REFS_MAX_BYTES, written_by=""):
+    """Write the reference images (float32 .npy, linear sRGB), interior masks and times; return the folder.
+
+    *refs*: {scene: dict with ``image``, ``interior``, ``seconds``, ``seconds_1spp``,
+    ``floor_errors``}.  Into *folder* when the files take less than *max_bytes* or *overflow* is
+    None, else into *overflow* (e.g. :data:`CACHE_REFS_DIR`, outside a repository); each file
+    atomically, with ``meta.json`` (:func:`reference_settings`, the times, *written_by*, the date).
+    """
+    blobs = {}
+    for name, ref in refs.items():
+        for suffix, array in (("", ref["image"].astype(np.float32)), ("_interior", ref["interior"])):
+            buf = io.BytesIO()
+            np.save(buf, array)
+            blobs[f"{name}{suffix}.npy"] = buf.getvalue()
+    meta = dict(reference_settings(size, spp),
+                scenes={name: dict(seconds=ref["seconds"], seconds_1spp=ref["seconds_1spp"],
+                                   floor_errors=ref["floor_errors"]) for name, ref in refs.items()},
+                files="NAME.npy: the reference, float32 linear sRGB (H, W, 3); NAME_interior.npy: bool (H, W)",
+                written_by=written_by, date=str(datetime.date.today()))
+    blobs["meta.json"] = (json.dumps(meta, indent=1) + "\n").encode()
+    if overflow is not None and sum(len(b) for b in blobs.values()) >= max_bytes:
+        folder = overflow
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    for fname, blob in blobs.items():
+        tmp = folder / f".{fname}.tmp"
+        tmp.write_bytes(blob)
+        os.replace(tmp, folder / fname)
+    return folder
+
+
+_TEXT = ("scene", "factor", "value", "transport", "spectral_method", "seconds_runs")
+
+
+def read_rows(path):
+    """``(notes, rows)`` of a file written by ``benchmarks/time_vs_error.py``
+    (:func:`bubbleoptics.study.read_commented_csv`); numbers as float (NaN when empty)."""
+    notes, raw = read_commented_csv(path)
+    rows = []
+    for r in raw:
+        rows.append({k: (v if k in _TEXT else (float(v) if v != "" else math.nan)) for k, v in r.items()})
+    return notes, rows
+
+
+def summary_table(rows):
+    """Plain-text table: per scene, the reference time, then every row's time and errors."""
+    lines = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        sel = [r for r in rows if r["scene"] == scene]
+        ref = next(r for r in sel if r["factor"] == "reference")
+        lines.append(f"\n{scene}: reference {ref['seconds']:.1f} s ({int(ref['width'])}x{int(ref['height'])}, "
+                     f"{int(ref['spectral_samples'])} bands, {int(ref['spp'])} spp, threshold 0, depth "
+                     f"{int(ref['depth'])}); interior pixels {100 * ref['interior_fraction']:.0f} %")
+        lines.append(f"{'factor':9s} {'value':22s} {'seconds':>8s} {'mean dE':>8s} {'p95 dE':>8s} {'int. mean':>9s} "
+                     f"{'rmse':>8s} {'speed-up':>9s}")
+        for r in sel:
+            if r["factor"] == "reference":
+                continue
+            mark = " *" if r["is_default"] else ""
+            lines.append(f"{r['factor']:9s} {r['value']:22s} {r['seconds']:8.4f} {r['mean_de00']:8.3f} "
+                         f"{r['p95_de00']:8.3f} {r['interior_mean_de00']:9.3f} {r['rmse']:8.4f} "
+                         f"{r['speedup_vs_reference']:8.0f}x{mark}")
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------------------
+# The front and the defaults
+# ------------------------------------------------------------------------------------------
+#: Settings the study proposes (depth is held at the default: it is swept, not proposed).
+PROPOSED = ("spectral_samples", "spectral_method", "threshold", "spp")
+
+
+def row_key(r):
+    """The setting of a CSV row, as :func:`key`."""
+    spectral = r["transport"] == "spectral"
+    return key(dict(spectral=spectral, spectral_samples=r["spectral_samples"] if spectral else 0,
+                    spectral_method=r["spectral_method"], threshold=r["threshold"], spp=r["spp"], depth=r["depth"]))
+
+
+def describe(k):
+    """A setting key as text, e.g. ``16 bands (point), threshold 0.001, 1 spp, depth 10``."""
+    transport, n, method, threshold, spp, depth = k
+    bands = "RGB transport" if transport == "rgb" else f"{n} bands ({method})"
+    return f"{bands}, threshold {threshold:g}, {spp} spp, depth {depth}"
+
+
+def timing_tolerance(rows, fallback=0.3):
+    """Relative timing noise: the median over settings of (slowest - fastest run) / median run.
+
+    *fallback* when no setting was timed more than once.  On the shared two-core machine of
+    the benchmark this is about 0.3: two settings whose times differ by less cannot be ordered.
+    """
+    spreads = []
+    for r in rows:
+        runs = [float(x) for x in str(r["seconds_runs"]).split()]
+        if len(runs) > 1:
+            spreads.append((max(runs) - min(runs)) / float(np.median(runs)))
+    return float(np.median(spreads)) if spreads else fallback
+
+
+def scene_points(rows, scene, skip=("reference",)):
+    """The rows of *scene* that are renders to compare, each setting once (the first row of it):
+    all but the factors in *skip* (the reference itself; a figure that marks each point by the
+    factor swept also skips ``"default"``, whose setting every sweep passes through)."""
+    seen, out = set(), []
+    for r in rows:
+        if r["scene"] == scene and r["factor"] not in skip and row_key(r) not in seen:
+            seen.add(row_key(r))
+            out.append(r)
+    return out
+
+
+def front(rows, scene, metric="interior_mean_de00"):
+    """Rows of *scene* on the Pareto front of (seconds, *metric*) (:func:`bubbleoptics.study.pareto_front`)."""
+    pts = scene_points(rows, scene)
+    idx = pareto_front([r["seconds"] for r in pts], [r[metric] for r in pts])
+    return [pts[i] for i in idx]
+
+
+def dominators(rows, scene, k, metric="interior_mean_de00", tol=0.0):
+    """Rows of *scene* that dominate setting *k* beyond the timing noise *tol*.
+
+    A row dominates when its error is no larger and its time is smaller by more than the
+    noise: ``seconds <= seconds_k / (1 + tol)`` (errors are deterministic, times are not).
+    With *tol* = 0 this is ordinary Pareto dominance (ties in both count as no dominance).
+    Empty: *k* is on the front within the timing noise.
+    """
+    pts = scene_points(rows, scene)
+    me = next(r for r in pts if row_key(r) == k)
+    t, e = me["seconds"] / (1.0 + tol), me[metric]
+    return [r for r in pts if row_key(r) != k and r["seconds"] <= t and r[metric] <= e
+            and (r["seconds"] < t or r[metric] < e)]
+
+
+def assess(rows, defaults, metric="interior_mean_de00", tol=None, target_error=TARGET_MEAN_DE00,
+           target_speedup=TARGET_SPEEDUP, depth=None):
+    """Which settings meet the targets and sit on the front in every scene; the proposal.
+
+    *defaults*: the renderer's current defaults as a setting (:func:`settings_from_defaults`) or
+    its :func:`key`: the setting the verdict ``default_ok`` is about.  Candidates: every setting
+    rendered in every scene at trace depth *depth* (default: the defaults' depth).  A candidate
+    *qualifies* when, in every scene, its *metric* is at most *target_error*, it is at least
+    *target_speedup* times faster than the reference, and no other setting dominates it beyond
+    the timing noise *tol* (:func:`dominators`; default: :func:`timing_tolerance`).  The *proposal* is the most accurate (smallest worst-scene
+    error) of the qualifying settings whose time -- the geometric mean over scenes of
+    seconds / reference seconds -- is within the timing noise of the fastest one: when
+    times cannot be told apart, accuracy decides.
+
+    Returns a dict: ``tol``, ``metric``, ``scenes``, ``candidates`` (key -> per-scene dicts
+    with ``seconds``, ``error``, ``p95``, ``speedup``, ``dominated_by`` (keys), ``meets``;
+    and ``qualifies``, ``cost``), ``qualifying`` (keys), ``proposal`` (key or None),
+    ``default`` (the defaults' key) and ``default_ok`` (bool), ``problems`` (text).
+    """
+    if tol is None:
+        tol = timing_tolerance(rows)
+    default = defaults if isinstance(defaults, tuple) else key(defaults)
+    if depth is None:
+        depth = default[5]
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    per_scene = {sc: {row_key(r): r for r in scene_points(rows, sc)} for sc in scenes}
+    common = [k for k in per_scene[scenes[0]] if all(k in per_scene[sc] for sc in scenes) and k[5] == depth]
+    p95_metric = metric.replace("mean", "p95")
+    candidates = {}
+    for k in common:
+        info = {}
+        for sc in scenes:
+            r = per_scene[sc][k]
+            dom = [row_key(d) for d in dominators(rows, sc, k, metric, tol)]
+            info[sc] = dict(seconds=r["seconds"], error=r[metric], p95=r.get(p95_metric, math.nan),
+                            speedup=r["speedup_vs_reference"], dominated_by=dom,
+                            meets=r[metric] <= target_error and r["speedup_vs_reference"] >= target_speedup)
+        info["qualifies"] = all(info[sc]["meets"] and not info[sc]["dominated_by"] for sc in scenes)
+        info["cost"] = float(np.exp(np.mean([np.log(1.0 / info[sc]["speedup"]) for sc in scenes])))
+        info["worst_error"] = max(info[sc]["error"] for sc in scenes)
+        candidates[k] = info
+    qualifying = sorted((k for k in candidates if candidates[k]["qualifies"]), key=lambda k: candidates[k]["cost"])
+    proposal = None
+    if qualifying:
+        fastest = candidates[qualifying[0]]["cost"]
+        tied = [k for k in qualifying if candidates[k]["cost"] <= fastest * (1.0 + tol)]
+        proposal = min(tied, key=lambda k: (candidates[k]["worst_error"], candidates[k]["cost"]))
+    problems = []
+    if default not in candidates:
+        problems.append(f"the current defaults ({describe(default)}) were not rendered in every scene: "
+                        "re-run benchmarks/time_vs_error.py")
+    else:
+        for sc in scenes:
+            d = candidates[default][sc]
+            if d["error"] > target_error:
+                problems.append(f"{sc}: {metric} {d['error']:.3f} > {target_error}")
+            if d["speedup"] < target_speedup:
+                problems.append(f"{sc}: only {d['speedup']:.1f}x faster than the reference (< {target_speedup:g}x)")
+            if d["dominated_by"]:
+                problems.append(f"{sc}: off the front, dominated beyond the timing noise by "
+                                + "; ".join(describe(k) for k in d["dominated_by"]))
+    return dict(tol=tol, metric=metric, scenes=scenes, candidates=candidates, qualifying=qualifying,
+                proposal=proposal, default=default, default_ok=not problems, problems=problems)
+
+
+def change_advice(result):
+    """Text: which defaults to change to reach the proposal (empty when they agree)."""
+    if result["proposal"] is None:
+        return ("no setting at the default depth meets the targets on the front in every scene; "
+                "relax a target or sweep further")
+    names = ("transport", "spectral_samples", "spectral_method", "threshold", "spp", "depth")
+    d, p = result["default"], result["proposal"]
+    changes = [f"{n}: {a!r} -> {b!r}" for n, a, b in zip(names, d, p) if a != b]
+    return ("change tracer.DEFAULTS " + ", ".join(changes)) if changes else ""
+
+
+def scene_front(rows, scene, metric="interior_mean_de00"):
+    """One scene's study as the paper draws and quotes it: its settings, the front, the defaults.
+
+    Returns a dict with ``points`` (:func:`scene_points` without the reference and the
+    ``default`` rows: every setting once, under the factor it was swept in), ``front`` (indices
+    into ``points`` on the Pareto front of (seconds, *metric*), by increasing time),
+    ``default`` (the row of the defaults the benchmark ran with, ``is_default``),
+    ``default_on_front`` and ``reference_seconds``.
+    """
+    sel = [r for r in rows if r["scene"] == scene]
+    if not sel:
+        raise ValueError(f"no rows for scene {scene!r}")
+    pts = scene_points(rows, scene, skip=("reference", "default"))
+    idx = pareto_front([r["seconds"] for r in pts], [r[metric] for r in pts])
+    default = next(r for r in sel if r["is_default"] == 1)
+    return {
+        "points": pts,
+        "front": idx,
+        "default": default,
+        "default_on_front": any(row_key(pts[i]) == row_key(default) for i in idx),
+        "reference_seconds": next(r["seconds"] for r in sel if r["factor"] == "reference"),
+    }
