@@ -26,7 +26,7 @@ test: $(STAMP)
 ## make bench: the speed benchmarks (not part of the tests; results go to data/derived/).
 bench: $(STAMP)
 	$(PY) benchmarks/optics_speed.py
-	$(PY) benchmarks/seed_table.py
+	$(PY) benchmarks/coursework_table.py
 	$(PY) benchmarks/bandlimited_colour.py
 	$(PY) benchmarks/stability.py
 	$(PY) benchmarks/time_vs_error.py

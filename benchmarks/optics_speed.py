@@ -17,9 +17,7 @@ Then ``spectrum_to_XYZ`` against ``colour.sd_to_XYZ`` per spectrum.
 """
 
 import argparse
-import datetime
 import os
-import platform
 import sys
 import time
 import warnings
@@ -27,8 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.append(str(Path(__file__).resolve().parent))  # for scripts loaded by file path (notebooks)
-from _results import wall_times, write_csv  # noqa: E402
+from bubbleoptics.study import provenance, wall_times, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "optics_speed.csv"
@@ -190,9 +187,8 @@ def main(argv=None):
         row["ratio_to_bubbleoptics"] = row["median_seconds"] / base
 
     write_csv(args.out, rows,
-              f"written by benchmarks/optics_speed.py on {datetime.date.today()} "
-              f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-              f"Python {platform.python_version()}, numba threads {os.environ.get('NUMBA_NUM_THREADS', 'default')})",
+              provenance("benchmarks/optics_speed.py",
+                         f"numba threads {os.environ.get('NUMBA_NUM_THREADS', 'default')}"),
               float_format=None)
     print(f"wrote {args.out}")
     return 0

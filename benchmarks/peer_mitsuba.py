@@ -44,7 +44,7 @@ pinhole camera (vertical field of view 40 degrees), 256x256, box pixel filter in
    median is the run's time) so that the accounting has enough clock ticks.  seconds = the
    median of the clean runs; the CSV keeps every run with its share.
    Seeds differ between rounds; the error is that of the first round.  Errors: RMSE over
-   pixels and channels (linear RGB) and mean CIEDE2000 (:func:`tracer.study.delta_e00`)
+   pixels and channels (linear RGB) and mean CIEDE2000 (:func:`bubbleoptics.study.delta_e00_images`)
    against each reference.
 5. **Time to equal error.**  log(time) interpolated linearly in log(error) along each curve.
 
@@ -55,10 +55,8 @@ after the other in the same process.  Mitsuba's kernels are cached by Dr.Jit in 
 from __future__ import annotations
 
 import argparse
-import datetime
 import math
 import os
-import platform
 import shutil
 import sys
 import tempfile
@@ -67,8 +65,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.append(str(Path(__file__).resolve().parent))  # for scripts loaded by file path (notebooks)
-from _results import write_csv  # noqa: E402
+from bubbleoptics.study import provenance, write_csv
+from bubbleoptics.study.fronts import time_at_error
+from bubbleoptics.study.metrics import delta_e00_images, rmse
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "peer_mitsuba.csv"
@@ -259,28 +258,9 @@ def render_mitsuba(mi, scene, spp, seed):
     return image[..., :3], time.perf_counter() - t0, None
 
 
-def rmse(a, b):
-    return float(np.sqrt(np.mean((np.asarray(a, float) - np.asarray(b, float)) ** 2)))
-
-
 def mean_de00(a, b):
-    from tracer.study import delta_e00
-
-    return float(np.mean(delta_e00(np.clip(a, 0.0, None), np.clip(b, 0.0, None))))
-
-
-def time_at_error(seconds, errors, target):
-    """Seconds at which a curve (seconds, errors) reaches *target*: log-log linear interpolation
-    between the measured points (NaN outside the measured range of errors)."""
-    order = np.argsort(seconds)
-    t = np.log(np.asarray(seconds, float)[order])
-    e = np.log(np.asarray(errors, float)[order])
-    lt = math.log(target)
-    for k in range(len(t) - 1):
-        lo, hi = sorted((e[k], e[k + 1]))
-        if lo <= lt <= hi and e[k] != e[k + 1]:
-            return float(math.exp(t[k] + (lt - e[k]) * (t[k + 1] - t[k]) / (e[k + 1] - e[k])))
-    return float("nan")
+    """Mean CIEDE2000 of two linear-RGB images (negative values clipped to 0)."""
+    return float(np.mean(delta_e00_images(a, b)))
 
 
 #: A timing run counts ("clean") when other processes used at most this share of the CPUs.
@@ -374,13 +354,12 @@ def mitsuba_reference(mi, scene, spp_total, seconds_budget):
     return np.mean(images[:n], axis=0), n * REFERENCE_PASS_SPP, seconds, noise
 
 
-def machine_note():
+def threads_note():
     import numba
 
     import drjit as dr
 
-    return (f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-            f"numba {numba.__version__} with {numba.get_num_threads()} threads "
+    return (f"numba {numba.__version__} with {numba.get_num_threads()} threads "
             f"(layer {numba.config.THREADING_LAYER}), drjit {dr.__version__} with {dr.thread_count()} threads")
 
 
@@ -431,8 +410,9 @@ def main(argv=None):
         return 1
     ref_variant = variants[0]
     mi.set_variant(ref_variant)
-    note = machine_note() if llvm_ok else f"{platform.machine()}, {os.cpu_count()} cores"
-    print(f"mitsuba {mi.__version__}; variants {variants}; {note}", flush=True)
+    note = threads_note() if llvm_ok else ""
+    print(f"mitsuba {mi.__version__}; variants {variants}; {provenance('benchmarks/peer_mitsuba.py', note)}",
+          flush=True)
 
     image = environment_image(*((256, 512) if quick else ENV_SHAPE))
     folder = tempfile.mkdtemp(prefix="peer_env_")
@@ -557,7 +537,6 @@ def main(argv=None):
               f"{variant:11s} {sampler:11s} {t_mi:8.4f} s | mitsuba / ours {t_mi / t_ours:6.2f}")
 
     # 5. the CSV
-    stamp = datetime.date.today().isoformat()
     ref_note = (f"reference for rmse and mean_de00: Mitsuba {ref_variant} {ref_mi_spp} spp (stratified, passes of "
                 f"{REFERENCE_PASS_SPP} spp, {ref_mi_seconds:.0f} s; its noise RMSE ~{ref_mi_noise:.2e} from its two "
                 f"halves); *_vs_ours: against ours at {OURS_REFERENCE_SPP} spp (exhaustive); *_vs_mean: against the "
@@ -569,8 +548,8 @@ def main(argv=None):
     ttl = "; ".join(f"{m} {lab} {target:.4g}: ours {ov} {a:.4g} s, {v} {smp} {b:.4g} s, ratio {b / a:.3g}"
                     for m, lab, target, ov, a, v, smp, b in summary if math.isfinite(a) and math.isfinite(b))
     comments = [
-        f"written by benchmarks/peer_mitsuba.py{' --quick' if quick else ''} on {stamp} ({note}); "
-        f"mitsuba {mi.__version__}",
+        provenance(f"benchmarks/peer_mitsuba.py{' --quick' if quick else ''}", *([note] if note else []),
+                   f"mitsuba {mi.__version__}"),
         f"scene: clear glass sphere n = {IOR}, radius 1, at the origin; pinhole camera at (0, 0, 4) "
         f"looking at it, vertical fov {FOV_DEG} deg, {size}x{size}, box filter, depth {DEPTH}; environment "
         f"{image.shape[1]}x{image.shape[0]} procedural (nearest texel in ours, bilinear in Mitsuba); ours: "
