@@ -50,7 +50,7 @@ def _assert_png(path):
 @pytest.mark.api
 def test_figure_scripts_exist():
     names = {p.name for p in FIGURE_SCRIPTS}
-    assert {"fig_seed_table.py", "fig_depth_fits.py", "fig_thin_film.py"} <= names
+    assert {"fig_coursework_table.py", "fig_depth_fits.py", "fig_thin_film.py"} <= names
 
 
 @pytest.mark.api
@@ -73,11 +73,11 @@ def test_make_figures_quick_writes_every_figure(tmp_path):
 
 @pytest.mark.api
 def test_one_script_runs_alone_with_quick_flag(tmp_path):
-    proc = subprocess.run([sys.executable, str(SCRIPTS / "fig_seed_table.py"), "--quick"], env=_env(tmp_path),
+    proc = subprocess.run([sys.executable, str(SCRIPTS / "fig_coursework_table.py"), "--quick"], env=_env(tmp_path),
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
-    _assert_pdf(tmp_path / "fig_seed_table.pdf")
-    _assert_png(tmp_path / "fig_seed_table.png")
+    _assert_pdf(tmp_path / "fig_coursework_table.pdf")
+    _assert_png(tmp_path / "fig_coursework_table.png")
 
 
 @pytest.mark.api

@@ -1,13 +1,14 @@
 """Figure: film colour from few spectral samples, against thickness, by method.
 
 Run:  python paper/scripts/fig_bandlimited.py [--quick]
-Computes with the bubbleoptics package and the functions of ``benchmarks/bandlimited_colour.py``
-(imported, not copied: the Gaussian CMF fit ``bb_film_XYZ`` and the lookup table ``lut_table`` /
-``lut_film_XYZ``); reads ``data/derived/bandlimited_colour.csv`` (written by that benchmark) only
-to check the curves against it; writes ``fig_bandlimited.pdf``/``.png``.
+Computes with the bubbleoptics package and the approaches of :mod:`bubbleoptics.study.film_colour`
+(the Gaussian CMF fit ``bb_film_XYZ`` and the lookup table ``lut_table`` / ``lut_film_XYZ``, as
+``benchmarks/bandlimited_colour.py`` uses them); reads ``data/derived/bandlimited_colour.csv``
+(written by that benchmark) only to check the curves against it; writes
+``fig_bandlimited.pdf``/``.png``.
 
-Every curve is the CIEDE2000 (``colour.delta_E(..., method="CIE 2000")`` of ``colour.XYZ_to_Lab``
-with the illuminant's white, as the benchmark's ``record`` computes it) between a method's colour
+Every curve is the CIEDE2000 (:func:`bubbleoptics.study.delta_e00_XYZ` with the illuminant's
+white, as the benchmark computes it) between a method's colour
 and the 1 nm reference, against the thickness of a free-standing film in air, 0-20 µm,
 unpolarized, CIE 1931 2° observer.  The per-thickness values of point sampling alias and are
 very jagged, so every curve is drawn as its running maximum over a window of 0.2 µm: the
@@ -32,16 +33,13 @@ error unless it agrees with the CSV's ``dE00_max`` for the same method within 5 
 """
 
 import sys
-import warnings
 
 import numpy as np
 
 import paths
 import style
-from tracer.study import read_commented_csv
-
-sys.path.insert(0, str(paths.ROOT / "benchmarks"))
-import bandlimited_colour as bench  # noqa: E402  (benchmarks/ is not a package)
+from bubbleoptics.study import delta_e00_XYZ, read_commented_csv
+from bubbleoptics.study.film_colour import bb_film_XYZ, lut_film_XYZ, lut_table
 
 CSV = paths.DERIVED / "bandlimited_colour.csv"
 WINDOW_NM = 200.0  # running maximum over this window of thickness
@@ -78,45 +76,35 @@ def envelope(d, e, window=WINDOW_NM):
 
 def compute(d):
     """{(panel, theta_deg, key): (ΔE00 per thickness, (CSV method, illuminant, n_bands, order))}."""
-    import colour
-
     import bubbleoptics as bo
     from bubbleoptics.bandlimited import film_XYZ_bandlimited
     from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM as WL
 
-    def lab(XYZ, ill):
-        return colour.XYZ_to_Lab(XYZ, colour.CCS_ILLUMINANTS[bench.OBSERVER][ill])
-
-    def de00(XYZ, ref_lab, ill):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return np.asarray(colour.delta_E(lab(XYZ, ill), ref_lab, method="CIE 2000"))
-
     out = {}
     W1, WE = bo.spectral_weights(WL), bo.spectral_weights(WL, illuminant=None)
     wl16, W16 = bo.band_spectral_weights(16)
-    table = bench.lut_table()
+    table = lut_table()
     for theta_deg in ANGLES:
         th = np.deg2rad(theta_deg)
         # (a), (b): D65, water
-        ref = lab(bo.film_reflectance(WL, d[:, None], th) @ W1.T, "D65")
+        ref = bo.film_reflectance(WL, d[:, None], th) @ W1.T
         panel = "a" if theta_deg == 0.0 else "b"
-        out[panel, theta_deg, "point"] = (de00(bo.film_reflectance(wl16, d[:, None], th) @ W16.T, ref, "D65"),
-                                          ("point", "D65", 16, ""))
-        out[panel, theta_deg, "band_mean"] = (de00(bo.film_reflectance_band(16, d, th) @ W16.T, ref, "D65"),
-                                              ("band_mean", "D65", 16, 6))
+        point = bo.film_reflectance(wl16, d[:, None], th) @ W16.T
+        out[panel, theta_deg, "point"] = (delta_e00_XYZ(point, ref, "D65"), ("point", "D65", 16, ""))
+        band_mean = bo.film_reflectance_band(16, d, th) @ W16.T
+        out[panel, theta_deg, "band_mean"] = (delta_e00_XYZ(band_mean, ref, "D65"), ("band_mean", "D65", 16, 6))
         for N in (8, 16):
-            out[panel, theta_deg, f"ours{N}"] = (de00(film_XYZ_bandlimited(d, th, N, order=3), ref, "D65"),
-                                                 ("bandlimited", "D65", N, 3))
+            ours = film_XYZ_bandlimited(d, th, N, order=3)
+            out[panel, theta_deg, f"ours{N}"] = (delta_e00_XYZ(ours, ref, "D65"), ("bandlimited", "D65", N, 3))
         # (c): illuminant E
-        ref_const = lab(bo.film_reflectance(WL, d[:, None], th, N_CONST) @ WE.T, "E")
-        ref_water = lab(bo.film_reflectance(WL, d[:, None], th) @ WE.T, "E")
-        out["c", theta_deg, "gaussian"] = (de00(bench.bb_film_XYZ(d, th, N_CONST), ref_const, "E"),
+        ref_const = bo.film_reflectance(WL, d[:, None], th, N_CONST) @ WE.T
+        ref_water = bo.film_reflectance(WL, d[:, None], th) @ WE.T
+        out["c", theta_deg, "gaussian"] = (delta_e00_XYZ(bb_film_XYZ(d, th, N_CONST), ref_const, "E"),
                                            ("gaussian_fit_BB2017", "E", "", ""))
-        out["c", theta_deg, "lut"] = (de00(bench.lut_film_XYZ(d, th, N_CONST, table), ref_water, "E"),
+        out["c", theta_deg, "lut"] = (delta_e00_XYZ(lut_film_XYZ(d, th, N_CONST, table), ref_water, "E"),
                                       ("lut_nondispersive_vs_dispersive", "E", "", ""))
-        out["c", theta_deg, "ours16"] = (de00(film_XYZ_bandlimited(d, th, 16, illuminant=None, order=3),
-                                              ref_water, "E"), ("bandlimited_water", "E", 16, 3))
+        ours_water = film_XYZ_bandlimited(d, th, 16, illuminant=None, order=3)
+        out["c", theta_deg, "ours16"] = (delta_e00_XYZ(ours_water, ref_water, "E"), ("bandlimited_water", "E", 16, 3))
     return out
 
 

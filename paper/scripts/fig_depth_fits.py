@@ -1,14 +1,14 @@
-"""Figure: growth laws fitted to the seed's table 4.1, and their relative residuals.
+"""Figure: growth laws fitted to the coursework's table 4.1, and their relative residuals.
 
 Run:  python paper/scripts/fig_depth_fits.py [--quick]
-Reads ``data/seed_table_4_1.csv``; writes ``fig_depth_fits.pdf``/``.png``.
+Reads ``data/coursework_table_4_1.csv``; writes ``fig_depth_fits.pdf``/``.png``.
 
-Top: the seed's times (circles) with the affine exponential a + c·b^d (solid), the pure
-exponential a·b^d (dotted) and the seed's fourth-degree polynomial (dashed), one colour per
+Top: the coursework's times (circles) with the affine exponential a + c·b^d (solid), the pure
+exponential a·b^d (dotted) and the coursework's fourth-degree polynomial (dashed), one colour per
 scene.  Bottom: relative residuals (t − t̂)/t of each law, one panel per law, titled with its
 number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
 to depths 1-7 (TRAIN_DEPTH), which tells a law that explains the growth from one that
-interpolates it.  All fits by tracer.study with the same weighting (relative, 1/t; the
+interpolates it.  All fits by bubbleoptics.study with the same weighting (relative, 1/t; the
 quartic as well, so that every law sits at its own optimum of the same criterion).
 Quick mode draws the same figure (the fits take milliseconds).
 """
@@ -19,11 +19,17 @@ import numpy as np
 
 import paths
 import style
-from tracer.study import compare_fits, fit_affine_exponential, fit_exponential, fit_polynomial, holdout_errors, \
-    load_seed_table
+from bubbleoptics.study import (
+    compare_fits,
+    fit_affine_exponential,
+    fit_exponential,
+    fit_polynomial,
+    holdout_errors,
+    load_coursework_table,
+)
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
-LAWS = {  # model name of tracer.study -> panel title, line style, fitter
+LAWS = {  # model name of bubbleoptics.study's fits -> panel title, line style, fitter
     "affine exponential": ("$a + c\\,b^d$ (3)", "-", fit_affine_exponential),
     "exponential": ("$a\\,b^d$ (2)", ":", fit_exponential),
     "polynomial, degree 4": ("quartic (5)", "--", lambda d, t, relative: fit_polynomial(d, t, 4, relative=relative)),
@@ -33,8 +39,8 @@ TRAIN_DEPTH = 7  # the held-out test fits depths 1..7 and predicts 8..10
 
 def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
-    seed = load_seed_table(paths.SEED_TABLE)
-    depth = seed["depth"]
+    coursework = load_coursework_table(paths.COURSEWORK_TABLE)
+    depth = coursework["depth"]
     fine = np.linspace(1.0, 10.0, 200)
 
     fig = style.figure(height=3.6)
@@ -42,15 +48,15 @@ def main(argv=None):
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
     worst = {law: 0.0 for law in LAWS}
     for (nb, name), color in zip(SCENES.items(), colors):
-        comparison = compare_fits(depth, seed["seconds"][nb])
+        comparison = compare_fits(depth, coursework["seconds"][nb])
         fits = {row["model"]: row["fit"] for row in comparison.rows}
-        axes["fit"].plot(depth, seed["seconds"][nb], "o", color=color, markerfacecolor="white",
+        axes["fit"].plot(depth, coursework["seconds"][nb], "o", color=color, markerfacecolor="white",
                          markeredgewidth=0.7, label=name, zorder=3)
         for law, (_, ls, fitter) in LAWS.items():
             axes["fit"].plot(fine, fits[law].predict(fine), ls, color=color, linewidth=0.8)
             axes[law].plot(depth, 100 * fits[law].relative_residuals, "o-", color=color, linewidth=0.6,
                            markersize=2.2)
-            held, err = holdout_errors(fitter, depth, seed["seconds"][nb], TRAIN_DEPTH, relative=True)
+            held, err = holdout_errors(fitter, depth, coursework["seconds"][nb], TRAIN_DEPTH, relative=True)
             axes[law].plot(held, 100 * err, "x", color=color, markersize=3.5, markeredgewidth=0.8)
             worst[law] = max(worst[law], float(np.abs(fits[law].relative_residuals).max()), float(np.abs(err).max()))
             print(f"  {law}: fitted to depths 1-{TRAIN_DEPTH}, error at depth 10 {100 * err[-1]:+.1f} %")
@@ -60,7 +66,7 @@ def main(argv=None):
     ax = axes["fit"]
     ax.set_yscale("log")
     ax.set_xlabel("trace depth $d$")
-    ax.set_ylabel("seed's render time $t$ (s)")
+    ax.set_ylabel("coursework's render time $t$ (s)")
     ax.set_xticks(range(1, 11))
     ax.set_xlim(0.7, 10.3)
     from matplotlib.lines import Line2D

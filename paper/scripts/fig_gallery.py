@@ -1,10 +1,10 @@
-"""Figure: a gallery of renders, the seed's three functional scenes and three realistic bubbles.
+"""Figure: a gallery of renders, the coursework's three functional scenes and three realistic bubbles.
 
 Run:  python paper/scripts/fig_gallery.py [--quick]
 Renders scene files from ``data/scenes/`` with ``tracer``; writes ``fig_gallery.pdf``/``.png``.
 
-Top row, the seed coursework's functional tests (its figures 3.3-3.5, rebuilt from their captions
-in the seed's text format, seen by its default camera against its black background): (a) a
+Top row, the coursework's functional tests (its figures 3.3-3.5, rebuilt from their captions
+in the coursework's text format, seen by its default camera against its black background): (a) a
 purple sphere hidden behind a pink one, seen in a mirror-like tetrahedron; (b) recursive
 reflection between a sphere and a tetrahedron, and a transparent sphere the tetrahedron shows
 through; (c) a soap bubble (a uniform 500 nm film) above glass, metal and matte spheres.
@@ -48,9 +48,9 @@ def panels():
 
     one = load("gallery_one_bubble.toml")
     return [
-        ("(a) seed fig. 3.3: a hidden sphere in a mirror", load("fig3_3_hidden_sphere_reflected.txt")),
-        ("(b) seed fig. 3.4: recursive reflection", load("fig3_4_recursive_reflection.txt")),
-        ("(c) seed fig. 3.5: a bubble and three materials", load("fig3_5_materials.txt")),
+        ("(a) coursework fig. 3.3: a hidden sphere in a mirror", load("fig3_3_hidden_sphere_reflected.txt")),
+        ("(b) coursework fig. 3.4: recursive reflection", load("fig3_4_recursive_reflection.txt")),
+        ("(c) coursework fig. 3.5: a bubble and three materials", load("fig3_5_materials.txt")),
         ("(d) six bubbles of different ages", load("gallery_bubbles.toml")),
         ("(e) a young film, 420-1400 nm", with_film(one, **YOUNG)),
         ("(f) an old film: black at the top", with_film(one, **OLD)),

@@ -21,7 +21,7 @@ import numpy as np
 
 import paths
 import style
-from tracer.study import read_commented_csv
+from bubbleoptics.study import read_commented_csv
 
 PEER = paths.DERIVED / "peer_mitsuba.csv"
 

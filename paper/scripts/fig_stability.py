@@ -12,15 +12,14 @@ rounding law eps / (2 cos^2 theta).  Exact zeros are drawn at 1e-18.
 (b) CIEDE2000 between the colour of a water film (normal incidence, D65) from N point-sampled
 bands and from 1 nm spectra, 1 um running median, against thickness; dashed verticals: the
 predicted onset of aliasing, where the fringe spacing at 400 nm, lambda^2 / (2 n d), equals the
-band width 420 nm / N; grey line: Delta E00 = 5, which the running median first exceeds at the
-measured onset.  Dotted: the band-limited method (bubbleoptics.film_color_bandlimited's XYZ,
-polynomial order 3), when the CSV has it.
+band width 420 nm / N; grey line: Delta E00 = 5 (``bubbleoptics.study.stability.ONSET_DE00``),
+which the running median first exceeds at the measured onset.  Dotted: the band-limited method
+(bubbleoptics.film_color_bandlimited's XYZ, polynomial order 3), when the CSV has it.
 (c) The colours themselves (exposure making the brightest film white), 1 nm and N bands, and
 the band-limited method with 8 bands when present.
 Quick mode draws the same figure (it only reads tables).
 """
 
-import csv
 import sys
 
 import numpy as np
@@ -28,6 +27,8 @@ import numpy as np
 import paths
 import style
 from bubbleoptics import XYZ_to_display_sRGB
+from bubbleoptics.study import read_columns
+from bubbleoptics.study.stability import ONSET_DE00, running_median
 
 GRAZING = paths.DERIVED / "stability_grazing.csv"
 ALIASING = paths.DERIVED / "stability_aliasing.csv"
@@ -40,18 +41,11 @@ BANDLIMITED_STRIP = 8  # the band-limited strip, when the CSV has that method
 
 
 def read_table(path):
-    """Columns of a CSV as arrays: floats where every value parses, strings otherwise."""
+    """Columns of a CSV as arrays (:func:`bubbleoptics.study.read_columns`); exits with a message
+    if the file is missing."""
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/stability.py first")
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    out = {}
-    for name, values in zip(rows[0], zip(*rows[1:])):
-        try:
-            out[name] = np.array([float(v) for v in values])
-        except ValueError:
-            out[name] = np.array(values)
-    return out
+    return read_columns(path)
 
 
 def select(table, **conditions):
@@ -59,12 +53,6 @@ def select(table, **conditions):
     for key, value in conditions.items():
         mask &= table[key] == value
     return {k: v[mask] for k, v in table.items()}
-
-
-def running_median(d, values, window=1000.0):
-    lo = np.searchsorted(d, d - window / 2, side="left")
-    hi = np.searchsorted(d, d + window / 2, side="right")
-    return np.array([np.median(values[a:b]) for a, b in zip(lo, hi)])
 
 
 def main(argv=None):
@@ -129,7 +117,7 @@ def main(argv=None):
             if b["dE00"].size:
                 ax_b.semilogy(d / 1000, np.maximum(running_median(d, b["dE00"]), 1e-5), color=band_colors[N],
                               ls=":", lw=0.9)
-    ax_b.axhline(5.0, color="0.6", lw=0.5)  # the threshold of the measured onset
+    ax_b.axhline(ONSET_DE00, color="0.6", lw=0.5)  # the threshold of the measured onset
     ax_b.set_ylim(2e-4 if has_bandlimited else 1e-2, 3e3)  # head room for the legend
     ax_b.set_xlim(0, d[-1] / 1000)
     ax_b.set_xlabel(r"film thickness $d$ ($\mu$m)")

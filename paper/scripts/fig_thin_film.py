@@ -5,7 +5,7 @@ Computes with the bubbleoptics package (no data files); writes ``fig_thin_film.p
 
 Top: exact (Airy) reflectance R of a free-standing water film in air (Daimon & Masumura 2007
 dispersion) at normal incidence, unpolarized, against thickness 0-1000 nm, at 450, 550 and
-650 nm (solid), with the seed's two-beam model at 550 nm (dashed).  Bottom: the reflected
+650 nm (solid), with the coursework's two-beam model at 550 nm (dashed).  Bottom: the reflected
 colour under D65 for 0-2000 nm at 0° and 60°, each strip with the exposure that makes its
 brightest film white (×k).  Drawn with ``bubbleoptics.plotting``.  Quick mode: 5 nm steps in
 thickness and wavelength instead of 1 nm.

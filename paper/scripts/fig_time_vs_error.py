@@ -10,25 +10,22 @@ bands, exhaustive tree, 16 samples per pixel) over the interior pixels (away fro
 that anti-aliasing changes: the metric the defaults are chosen on).  Marker: the factor swept
 (spectral bands point-sampled or band-averaged, RGB transport, pruning threshold, samples
 per pixel, depth, the combined grid).  Solid line: the Pareto front of those points
-(``tracer.study.pareto_front``); grey dashed line: the front of the same settings by the
+(``bubbleoptics.study.tradeoffs.scene_front``); grey dashed line: the front of the same settings by the
 error over all pixels.  Star: the defaults the benchmark ran with; dotted line: the
 reference's time; shaded: the target (mean ΔE00 <= 0.5, at least 20x faster than the
 reference).  Quick mode draws the same figure (it only reads the file).
 """
 
-import math
 import sys
 
 import numpy as np
 
 import paths
 import style
-from tracer.study import pareto_front, read_commented_csv
+from bubbleoptics.study import pareto_front, tradeoffs
 
 CSV = paths.DERIVED / "time_vs_error.csv"
 SCENES = {"builtin": "built-in scene", "bubbles": "six bubbles", "materials": "bubble and spheres"}
-TARGET_ERROR = 0.5
-TARGET_SPEEDUP = 20.0
 #: factor group -> (label, marker, colour index in the style's cycle, filled)
 GROUPS = {
     "point": ("bands, point", "o", 0, True),
@@ -43,52 +40,17 @@ GROUPS = {
 
 
 def read_rows(path):
+    """The benchmark's rows (:func:`bubbleoptics.study.tradeoffs.read_rows`, numbers as float);
+    exits with a message if the file is missing."""
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/time_vs_error.py first")
-    rows = []
-    for r in read_commented_csv(path)[1]:
-        for k in ("seconds", "mean_de00", "interior_mean_de00", "speedup_vs_reference", "is_default",
-                  "spectral_samples", "threshold", "spp", "depth"):
-            r[k] = float(r[k]) if r[k] != "" else math.nan
-        rows.append(r)
-    return rows
+    return tradeoffs.read_rows(path)[1]
 
 
 def group(r):
     if r["factor"] == "spectral":
         return "rgb" if r["transport"] == "rgb" else ("band" if r["spectral_method"] == "band" else "point")
     return r["factor"] if r["factor"] in GROUPS else None
-
-
-def setting(r):
-    return (r["transport"], r["spectral_samples"], r["spectral_method"], r["threshold"], r["spp"], r["depth"])
-
-
-def scene_front(rows, scene):
-    """One scene's study: its settings (each once), the interior-error Pareto front, the defaults.
-
-    Returns a dict with ``points`` (rows, every setting once, the reference excluded),
-    ``front`` (indices into ``points``, by increasing time), ``default`` (the defaults' row),
-    ``default_on_front`` and ``reference_seconds``.  ``paper/scripts/make_numbers.py`` quotes
-    the same selection.
-    """
-    sel = [r for r in rows if r["scene"] == scene]
-    if not sel:
-        raise ValueError(f"no rows for scene {scene!r}")
-    pts, seen = [], set()
-    for r in sel:  # each setting once (the sweeps share the defaults)
-        if r["factor"] != "reference" and group(r) and setting(r) not in seen:
-            seen.add(setting(r))
-            pts.append(r)
-    front = pareto_front([r["seconds"] for r in pts], [r["interior_mean_de00"] for r in pts])
-    default = next(r for r in sel if r["is_default"] == 1)
-    return {
-        "points": pts,
-        "front": front,
-        "default": default,
-        "default_on_front": any(setting(pts[i]) == setting(default) for i in front),
-        "reference_seconds": next(r["seconds"] for r in sel if r["factor"] == "reference"),
-    }
 
 
 def main(argv=None):
@@ -100,15 +62,15 @@ def main(argv=None):
     handles = {}
     for scene, title in SCENES.items():
         ax = axes[scene]
-        sf = scene_front(rows, scene)
+        sf = tradeoffs.scene_front(rows, scene)
         pts, t_ref, default, front = sf["points"], sf["reference_seconds"], sf["default"], sf["front"]
         t = np.array([r["seconds"] for r in pts])
         e_int = np.array([r["interior_mean_de00"] for r in pts])
         e_all = np.array([r["mean_de00"] for r in pts])
         lo_t, hi_t = 0.6 * t.min(), 1.8 * t_ref
         lo_e, hi_e = 0.6 * e_int.min(), 1.6 * e_all.max()
-        ax.fill_between([lo_t, t_ref / TARGET_SPEEDUP], lo_e, TARGET_ERROR, color=colors[2], alpha=0.12, lw=0,
-                        zorder=0)
+        ax.fill_between([lo_t, t_ref / tradeoffs.TARGET_SPEEDUP], lo_e, tradeoffs.TARGET_MEAN_DE00, color=colors[2],
+                        alpha=0.12, lw=0, zorder=0)
         for r in pts:
             label, marker, ci, filled = GROUPS[group(r)]
             h, = ax.plot(r["seconds"], r["interior_mean_de00"], marker, color=colors[ci], markersize=2.6,

@@ -14,18 +14,19 @@ the data; it exits with status 0 and writes the whole file every time (atomicall
 Sources, section by section:
 
 * ``optics``: ``data/derived/optics_speed.csv`` (``benchmarks/optics_speed.py``, ``make bench``).
-* ``seed``: ``data/seed_table_4_1.csv`` (the seed's table 4.1) with the growth-law fits of
-  :mod:`tracer.study` (the same code as ``fig_depth_fits.py``: AICc ranking, relative weights,
+* ``coursework``: ``data/coursework_table_4_1.csv`` (the coursework's table 4.1) with the
+  growth-law fits of :mod:`bubbleoptics.study` (the same code as ``fig_depth_fits.py``: AICc ranking, relative weights,
   laws fitted to depths 1-7 and tested at depth 10).
-* ``ours``: ``data/derived/seed_table.csv`` (``benchmarks/seed_table.py``).
+* ``ours``: ``data/derived/coursework_table.csv`` (``benchmarks/coursework_table.py``).
 * ``grazing`` and ``aliasing``: ``data/derived/stability_grazing.csv`` and
   ``stability_aliasing.csv`` (``benchmarks/stability.py``); unpolarized light, as in
   ``fig_stability.py``.
 * ``bandlimited``: ``data/derived/bandlimited_colour.csv`` (``benchmarks/bandlimited_colour.py``).
 * ``timeerror``: ``data/derived/time_vs_error.csv`` (``benchmarks/time_vs_error.py``), with the
-  selection and Pareto front of ``fig_time_vs_error.py``.
+  selection, Pareto front and verdict of :mod:`bubbleoptics.study.tradeoffs` (as
+  ``fig_time_vs_error.py`` and notebook 04).
 * ``peer``: ``data/derived/peer_mitsuba.csv`` (``benchmarks/peer_mitsuba.py``, optional Mitsuba),
-  times to equal error by that benchmark's ``time_at_error``.
+  times to equal error by :func:`bubbleoptics.study.time_at_error` (as that benchmark).
 * ``physics``: computed here with :mod:`bubbleoptics` (the two-beam error, water's index): a
   few milliseconds, no data file.
 * ``documented``: tolerances the test suite enforces, read from the sentences of ``README.md``
@@ -51,21 +52,15 @@ import re
 import sys
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-try:  # the figure scripts' one paths module, when it is there
-    import paths as _paths
+import paths  # the paper's one paths module, beside this script
+from bubbleoptics.study import read_commented_csv as _read_commented_csv
 
-    ROOT = _paths.ROOT
-except ImportError:  # pragma: no cover - paths.py is part of the paper's scripts
-    ROOT = HERE.parents[1]
-
-sys.path.append(str(ROOT / "benchmarks"))  # sections that reuse a benchmark's own analysis import it
-DATA = ROOT / "data"
+ROOT = paths.ROOT
+DATA = paths.DATA
 OUT = ROOT / "paper" / "numbers.tex"
 NA = r"\NumberNA{}"
 
-__all__ = ["SECTIONS", "significant", "scientific", "build", "main"]
+__all__ = ["SECTIONS", "declared_macros", "significant", "scientific", "build", "main"]
 
 
 # ------------------------------------------------------------------------------------------
@@ -131,11 +126,9 @@ def _sci_or_plain(x: float, n: int = 2) -> str:
 # inputs
 # ------------------------------------------------------------------------------------------
 def read_commented_csv(path):
-    """(header comments, rows as dicts) of a benchmark's CSV (:func:`tracer.study.read_commented_csv`);
+    """(header comments, rows as dicts) of a benchmark's CSV (:func:`bubbleoptics.study.read_commented_csv`);
     a file without rows is an error."""
-    from tracer.study import read_commented_csv as read
-
-    notes, rows = read(path)
+    notes, rows = _read_commented_csv(path)
     if not rows:
         raise ValueError(f"{path}: no rows")
     return notes, rows
@@ -218,61 +211,60 @@ OPTICS_MACROS = (
 WORDS = {1: "One", 2: "Two", 3: "Three"}
 
 
-def seed(dirs):
-    from tracer.study import compare_fits, fit_affine_exponential, fit_exponential, fit_polynomial, \
-        holdout_errors, load_seed_table
+def coursework(dirs):
+    from bubbleoptics import study
 
-    table = load_seed_table(dirs["data"] / "seed_table_4_1.csv")
+    table = study.load_coursework_table(dirs["data"] / "coursework_table_4_1.csv")
     depth = table["depth"]
     out = {}
     m = re.search(r"on an? (.+?) \(", " ".join(table["notes"]))
-    out["SeedMachine"] = m.group(1) if m else NA
+    out["CourseworkMachine"] = m.group(1) if m else NA
     branch, delta_quartic, delta_exp, hold = [], [], [], {"Quartic": [], "Affine": [], "Exp": []}
     rms_affine, best = [], set()
     fitters = {
-        "Quartic": lambda d, t, relative: fit_polynomial(d, t, 4, relative=relative),
-        "Affine": fit_affine_exponential,
-        "Exp": fit_exponential,
+        "Quartic": lambda d, t, relative: study.fit_polynomial(d, t, 4, relative=relative),
+        "Affine": study.fit_affine_exponential,
+        "Exp": study.fit_exponential,
     }
     for nb, word in WORDS.items():
         t = table["seconds"][nb]
-        out[f"SeedDepthOne{word}"] = f"{t[0]:.2f}"  # as transcribed (two decimals)
-        out[f"SeedDepthTen{word}"] = _group(f"{t[-1]:.2f}".split(".")[0]) + "." + f"{t[-1]:.2f}".split(".")[1]
-        out[f"SeedGrowth{word}"] = significant(t[-1] / t[0], 2)
-        comparison = compare_fits(depth, t)
+        out[f"CourseworkDepthOne{word}"] = f"{t[0]:.2f}"  # as transcribed (two decimals)
+        out[f"CourseworkDepthTen{word}"] = _group(f"{t[-1]:.2f}".split(".")[0]) + "." + f"{t[-1]:.2f}".split(".")[1]
+        out[f"CourseworkGrowth{word}"] = significant(t[-1] / t[0], 2)
+        comparison = study.compare_fits(depth, t)
         best.add(comparison.best)
         rows = {r["model"]: r for r in comparison.rows}
         affine = rows["affine exponential"]["fit"]
-        out[f"SeedBranch{word}"] = significant(affine.params["b"], 3)
+        out[f"CourseworkBranch{word}"] = significant(affine.params["b"], 3)
         branch.append(affine.params["b"])
         rms_affine.append(affine.rms_relative)
         delta_quartic.append(rows["polynomial, degree 4"]["delta"])
         delta_exp.append(rows["exponential"]["delta"])
         for key, fitter in fitters.items():
-            _, err = holdout_errors(fitter, depth, t, 7, relative=True)
+            _, err = study.holdout_errors(fitter, depth, t, 7, relative=True)
             hold[key].append(abs(err[-1]))
-    out["SeedBestLaw"] = ", ".join(sorted(best)) if best else NA
-    out["SeedBestIsAffine"] = "1" if best == {"affine exponential"} else "0"
-    out["SeedBranchMin"] = significant(min(branch), 3)
-    out["SeedBranchMax"] = significant(max(branch), 3)
-    out["SeedRmsAffineMax"] = significant(100 * max(rms_affine), 2)
-    out["SeedDeltaQuarticMin"] = significant(min(delta_quartic), 2)
-    out["SeedDeltaExpMin"] = significant(min(delta_exp), 2)
+    out["CourseworkBestLaw"] = ", ".join(sorted(best)) if best else NA
+    out["CourseworkBestIsAffine"] = "1" if best == {"affine exponential"} else "0"
+    out["CourseworkBranchMin"] = significant(min(branch), 3)
+    out["CourseworkBranchMax"] = significant(max(branch), 3)
+    out["CourseworkRmsAffineMax"] = significant(100 * max(rms_affine), 2)
+    out["CourseworkDeltaQuarticMin"] = significant(min(delta_quartic), 2)
+    out["CourseworkDeltaExpMin"] = significant(min(delta_exp), 2)
     for key, errs in hold.items():
-        out[f"SeedHoldout{key}Max"] = significant(100 * max(errs), 2)
+        out[f"CourseworkHoldout{key}Max"] = significant(100 * max(errs), 2)
     return out
 
 
-SEED_MACROS = (
-    ["SeedMachine", "SeedBestLaw", "SeedBestIsAffine", "SeedBranchMin", "SeedBranchMax", "SeedRmsAffineMax",
-     "SeedDeltaQuarticMin", "SeedDeltaExpMin", "SeedHoldoutQuarticMax", "SeedHoldoutAffineMax",
-     "SeedHoldoutExpMax"]
-    + [f"Seed{what}{w}" for what in ("DepthOne", "DepthTen", "Growth", "Branch") for w in WORDS.values()]
+COURSEWORK_MACROS = (
+    ["CourseworkMachine", "CourseworkBestLaw", "CourseworkBestIsAffine", "CourseworkBranchMin", "CourseworkBranchMax", "CourseworkRmsAffineMax",
+     "CourseworkDeltaQuarticMin", "CourseworkDeltaExpMin", "CourseworkHoldoutQuarticMax", "CourseworkHoldoutAffineMax",
+     "CourseworkHoldoutExpMax"]
+    + [f"Coursework{what}{w}" for what in ("DepthOne", "DepthTen", "Growth", "Branch") for w in WORDS.values()]
 )
 
 
 def ours(dirs):
-    notes, rows = read_commented_csv(dirs["derived"] / "seed_table.csv")
+    notes, rows = read_commented_csv(dirs["derived"] / "coursework_table.csv")
     main = [r for r in rows if r["mode"] in ("pruned", "exhaustive")]
     extra = [r for r in rows if r["mode"] not in ("pruned", "exhaustive")]
     if not main:
@@ -418,7 +410,7 @@ def physics(dirs):
     theta = 1.2
     out["TwoBeamExampleDeg"] = significant(math.degrees(theta), 3)
     out["TwoBeamExampleExact"] = f"{float(bo.film_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
-    out["TwoBeamExampleSeed"] = f"{float(bo.two_beam_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
+    out["TwoBeamExampleCoursework"] = f"{float(bo.two_beam_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
     n = bo.water_refractive_index(np.array([400.0, 550.0, 700.0]))
     for value, word in zip(n, ("FourHundred", "FiveFifty", "SevenHundred")):
         out[f"WaterIndex{word}"] = f"{float(value):.4f}"
@@ -429,7 +421,7 @@ def physics(dirs):
 
 PHYSICS_MACROS = (
     [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
-    + ["TwoBeamExampleDeg", "TwoBeamExampleExact", "TwoBeamExampleSeed", "WaterRNormal"]
+    + ["TwoBeamExampleDeg", "TwoBeamExampleExact", "TwoBeamExampleCoursework", "WaterRNormal"]
     + [f"WaterIndex{w}" for w in ("FourHundred", "FiveFifty", "SevenHundred")]
 )
 
@@ -517,22 +509,25 @@ SCENE_WORDS = {"builtin": "Builtin", "bubbles": "Bubbles", "materials": "Materia
 
 def timeerror(dirs):
     """Run time against error (``benchmarks/time_vs_error.py``), with the selection and Pareto front
-    of ``fig_time_vs_error.py`` (:func:`fig_time_vs_error.scene_front`)."""
-    import fig_time_vs_error as tve
+    that ``fig_time_vs_error.py`` draws (:func:`bubbleoptics.study.tradeoffs.scene_front`)."""
+    import tracer
+
+    from bubbleoptics.study import tradeoffs
 
     path = dirs["derived"] / "time_vs_error.csv"
-    notes, _ = read_commented_csv(path)
-    rows = tve.read_rows(path)
+    notes, rows = tradeoffs.read_rows(path)
+    if not rows:
+        raise ValueError(f"{path}: no rows")
     out = {"TvEMachine": _machine(notes), "TvEDate": _date(notes)}
     ref = next(r for r in rows if r["factor"] == "reference")
     out["TvESize"] = str(int(float(ref["width"])))
     out["TvERefSpp"] = str(int(ref["spp"]))
     out["TvERefDepth"] = str(int(ref["depth"]))
-    out["TvETargetError"] = significant(tve.TARGET_ERROR, 1)
-    out["TvETargetSpeedup"] = significant(tve.TARGET_SPEEDUP, 2)
+    out["TvETargetError"] = significant(tradeoffs.TARGET_MEAN_DE00, 1)
+    out["TvETargetSpeedup"] = significant(tradeoffs.TARGET_SPEEDUP, 2)
     interior, allpix, speedup, on_front = [], [], [], []
     for scene, word in SCENE_WORDS.items():
-        sf = tve.scene_front(rows, scene)
+        sf = tradeoffs.scene_front(rows, scene)
         d = sf["default"]
         interior.append(d["interior_mean_de00"])
         allpix.append(d["mean_de00"])
@@ -566,10 +561,10 @@ def timeerror(dirs):
     out["TvEAllMax"] = significant(max(allpix), 2)
     out["TvESpeedupMin"] = significant(min(speedup), 3)
     out["TvEDefaultsOnFront"] = "1" if all(on_front) else "0"
-    # the benchmark's own rule (notebook 04): dominated only beyond the timing noise counts
-    import time_vs_error as bench
-
-    verdict = bench.assess(bench.read_csv(path)[1], "interior_mean_de00")
+    # the study's rule (notebook 04): dominated only beyond the timing noise counts; about the
+    # renderer's current defaults, so a file made with other defaults says 0
+    defaults = tradeoffs.settings_from_defaults(tracer.DEFAULTS)
+    verdict = tradeoffs.assess(rows, defaults, "interior_mean_de00")
     out["TvEDefaultsQualify"] = "1" if verdict["default_ok"] else "0"
     out["TvETimingNoise"] = significant(100 * verdict["tol"], 2)
     return out
@@ -596,8 +591,9 @@ PEER_CURVES = {
 
 def peer(dirs):
     """Mitsuba 3 against our tracer (``benchmarks/peer_mitsuba.py``): time to the error ours
-    reaches at 4 spp, by the benchmark's own log-log interpolation (``time_at_error``)."""
-    from peer_mitsuba import time_at_error
+    reaches at 4 spp, by the log-log interpolation the benchmark uses
+    (:func:`bubbleoptics.study.time_at_error`)."""
+    from bubbleoptics.study import time_at_error
 
     notes, rows = read_commented_csv(dirs["derived"] / "peer_mitsuba.csv")
     sweep = [r for r in rows if r["role"] == "sweep"]
@@ -704,8 +700,8 @@ DEFAULTS_MACROS = ["DefaultBands", "DefaultThreshold", "DefaultDepth", "DefaultM
 #: name -> (inputs (relative to the data folders, for the warning), function, macro names)
 SECTIONS = {
     "optics": (["derived/optics_speed.csv"], optics, OPTICS_MACROS),
-    "seed": (["data/seed_table_4_1.csv"], seed, SEED_MACROS),
-    "ours": (["derived/seed_table.csv"], ours, OURS_MACROS),
+    "coursework": (["data/coursework_table_4_1.csv"], coursework, COURSEWORK_MACROS),
+    "ours": (["derived/coursework_table.csv"], ours, OURS_MACROS),
     "grazing": (["derived/stability_grazing.csv"], grazing, GRAZING_MACROS),
     "aliasing": (["derived/stability_aliasing.csv"], aliasing, ALIASING_MACROS),
     "physics": (["bubbleoptics (computed)"], physics, PHYSICS_MACROS),
@@ -719,7 +715,8 @@ SECTIONS = {
 _NAME = re.compile(r"^[A-Za-z]+$")
 
 #: Flags the paper tests with \ifnum: when their section fails they are 0, never n/a.
-FLAGS = {"BandlimitedAvailable": "0", "SeedBestIsAffine": "0", "TvEDefaultsOnFront": "0", "TvEDefaultsQualify": "0"}
+FLAGS = {"BandlimitedAvailable": "0", "CourseworkBestIsAffine": "0", "TvEDefaultsOnFront": "0",
+         "TvEDefaultsQualify": "0"}
 
 
 def build(dirs):
@@ -763,12 +760,21 @@ def render(macros):
     return "\n".join(lines) + "\n"
 
 
+def declared_macros():
+    """Every macro name the sections declare, in order (what ``--list-macros`` prints)."""
+    return [name for _, _, names in SECTIONS.values() for name in names]
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--list-macros", action="store_true", help="print every declared macro name, one a line")
     parser.add_argument("--out", type=Path, default=OUT, help="the file to write (default paper/numbers.tex)")
     parser.add_argument("--data", type=Path, default=DATA, help="the data folder (default data/)")
     parser.add_argument("--derived", type=Path, default=None, help="derived data (default DATA/derived)")
     args = parser.parse_args(argv)
+    if args.list_macros:
+        print("\n".join(declared_macros()))
+        return 0
     dirs = {"root": ROOT, "data": args.data, "derived": args.derived or args.data / "derived"}
     macros, warnings_ = build(dirs)
     for message in warnings_:

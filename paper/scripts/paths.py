@@ -1,8 +1,11 @@
 """Where the paper's figure scripts read and write, and in which mode they run.
 
-Every ``fig_*.py`` script imports this module (it sits beside them, so ``import paths`` works
-when a script is run as ``python paper/scripts/fig_X.py``) and reads its inputs only from
-``DATA``/``DERIVED``, writing only into ``FIGURES``.
+Every script beside this module (``fig_*.py``, ``table_coursework.py``, ``make_numbers.py``)
+imports it as ``import paths``: Python puts a running script's own folder first on its module
+search path, so that works when a script is run as ``python paper/scripts/fig_X.py``.  The
+scripts read their inputs only from ``DATA``/``DERIVED`` and write only into ``FIGURES``; this
+is the one place that knows where the repository keeps its files (the analysis they call,
+:mod:`bubbleoptics.study`, takes paths).
 
 * ``ROOT``: the repository; ``DATA``: ``data/`` (inputs with provenance, ``data/README.md``);
   ``DERIVED``: ``data/derived/`` (benchmark outputs; each file names the command that
@@ -20,16 +23,16 @@ import argparse
 import os
 from pathlib import Path
 
-__all__ = ["ROOT", "DATA", "DERIVED", "SEED_TABLE", "TIMING", "FIGURES", "figures_dir", "parse_args"]
+__all__ = ["ROOT", "DATA", "DERIVED", "COURSEWORK_TABLE", "TIMING", "FIGURES", "figures_dir", "parse_args"]
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "data"
 DERIVED = DATA / "derived"
 
-#: The seed coursework's table 4.1 (transcribed; provenance in data/README.md).
-SEED_TABLE = DATA / "seed_table_4_1.csv"
-#: Our re-run of it, written by benchmarks/seed_table.py.
-TIMING = DERIVED / "seed_table.csv"
+#: The coursework's table 4.1 (transcribed; provenance in data/README.md).
+COURSEWORK_TABLE = DATA / "coursework_table_4_1.csv"
+#: Our re-run of it, written by benchmarks/coursework_table.py.
+TIMING = DERIVED / "coursework_table.csv"
 
 FIGURES = Path(os.environ.get("BUBBLEOPTICS_FIGURES_DIR") or ROOT / "paper" / "figures").resolve()
 

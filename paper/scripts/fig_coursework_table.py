@@ -1,11 +1,12 @@
-"""Figure: the seed's table 4.1 against our re-run: render time against trace depth, log scale.
+"""Figure: the coursework's table 4.1 against our re-run: render time against trace depth, log scale.
 
-Run:  python paper/scripts/fig_seed_table.py [--quick]
-Reads ``data/seed_table_4_1.csv`` (the seed, Apple M3 Pro) and ``data/derived/seed_table.csv``
-(ours, written by ``benchmarks/seed_table.py``); writes ``fig_seed_table.pdf``/``.png``.
+Run:  python paper/scripts/fig_coursework_table.py [--quick]
+Reads ``data/coursework_table_4_1.csv`` (the coursework, Apple M3 Pro) and
+``data/derived/coursework_table.csv`` (ours, written by ``benchmarks/coursework_table.py``);
+writes ``fig_coursework_table.pdf``/``.png``.
 
-Colours: one, two, three bubbles.  Open circles, dotted: the seed.  Squares, solid: our
-exhaustive tree (the seed's algorithm, threshold 0).  Triangles, dashed: our default, pruned.
+Colours: one, two, three bubbles.  Open circles, dotted: the coursework.  Squares, solid: our
+exhaustive tree (the coursework's algorithm, threshold 0).  Triangles, dashed: our default, pruned.
 Ours are medians of the benchmark's runs; the vertical bars span the fastest to the slowest run
 (the isolated spikes are runs disturbed by the shared two-core machine, not the algorithm).
 Quick mode draws the same figure (it only reads tables).
@@ -18,11 +19,11 @@ from matplotlib.lines import Line2D
 
 import paths
 import style
-from tracer.study import load_seed_table, load_timing, timing_series
+from bubbleoptics.study import load_coursework_table, load_timing, timing_series
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 SOURCES = {  # label, marker, line style, filled marker
-    "seed": ("seed (Apple M3 Pro)", "o", ":", False),
+    "coursework": ("coursework (Apple M3 Pro)", "o", ":", False),
     "exhaustive": ("ours, exhaustive", "s", "-", True),
     "pruned": ("ours, pruned", "^", "--", True),
 }
@@ -30,14 +31,14 @@ SOURCES = {  # label, marker, line style, filled marker
 
 def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
-    seed = load_seed_table(paths.SEED_TABLE)
+    coursework = load_coursework_table(paths.COURSEWORK_TABLE)
     timing = load_timing(paths.TIMING)
 
     fig = style.figure(height=2.7)
     ax = fig.subplots()
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
     for (nb, name), color in zip(SCENES.items(), colors):
-        series = {"seed": (seed["depth"], seed["seconds"][nb])}
+        series = {"coursework": (coursework["depth"], coursework["seconds"][nb])}
         for mode in ("exhaustive", "pruned"):
             series[mode] = timing_series(timing, nb, mode)
             depth, runs = timing_series(timing, nb, mode, "seconds_runs")
@@ -59,7 +60,7 @@ def main(argv=None):
     first = ax.legend(handles=source_handles, loc="upper left")
     ax.add_artist(first)
     ax.legend(handles=scene_handles, loc="center right", bbox_to_anchor=(1.0, 0.38))
-    for path in style.savefig(fig, "fig_seed_table"):
+    for path in style.savefig(fig, "fig_coursework_table"):
         print(f"wrote {path}")
     return 0
 
