@@ -85,7 +85,7 @@ def read_columns(path):
     -------
     >>> import tempfile
     >>> path = Path(tempfile.mkdtemp()) / "t.csv"
-    >>> _ = path.write_text("a,b\n1,x\nnan,y\n")
+    >>> _ = path.write_text("a,b\\n1,x\\nnan,y\\n")
     >>> read_columns(path)["b"].tolist()
     ['x', 'y']
     """
