@@ -19,27 +19,21 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics.study import (
-    compare_fits,
-    fit_affine_exponential,
-    fit_exponential,
-    fit_polynomial,
-    holdout_errors,
-    load_coursework_table,
-)
+from bubbleoptics import study
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 LAWS = {  # model name of bubbleoptics.study's fits -> panel title, line style, fitter
-    "affine exponential": ("$a + c\\,b^d$ (3)", "-", fit_affine_exponential),
-    "exponential": ("$a\\,b^d$ (2)", ":", fit_exponential),
-    "polynomial, degree 4": ("quartic (5)", "--", lambda d, t, relative: fit_polynomial(d, t, 4, relative=relative)),
+    "affine exponential": ("$a + c\\,b^d$ (3)", "-", study.fit_affine_exponential),
+    "exponential": ("$a\\,b^d$ (2)", ":", study.fit_exponential),
+    "polynomial, degree 4": ("quartic (5)", "--",
+                             lambda d, t, relative: study.fit_polynomial(d, t, 4, relative=relative)),
 }
 TRAIN_DEPTH = 7  # the held-out test fits depths 1..7 and predicts 8..10
 
 
 def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
-    coursework = load_coursework_table(paths.COURSEWORK_TABLE)
+    coursework = study.load_coursework_table(paths.COURSEWORK_TABLE)
     depth = coursework["depth"]
     fine = np.linspace(1.0, 10.0, 200)
 
@@ -48,7 +42,7 @@ def main(argv=None):
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
     worst = {law: 0.0 for law in LAWS}
     for (nb, name), color in zip(SCENES.items(), colors):
-        comparison = compare_fits(depth, coursework["seconds"][nb])
+        comparison = study.compare_fits(depth, coursework["seconds"][nb])
         fits = {row["model"]: row["fit"] for row in comparison.rows}
         axes["fit"].plot(depth, coursework["seconds"][nb], "o", color=color, markerfacecolor="white",
                          markeredgewidth=0.7, label=name, zorder=3)
@@ -56,7 +50,7 @@ def main(argv=None):
             axes["fit"].plot(fine, fits[law].predict(fine), ls, color=color, linewidth=0.8)
             axes[law].plot(depth, 100 * fits[law].relative_residuals, "o-", color=color, linewidth=0.6,
                            markersize=2.2)
-            held, err = holdout_errors(fitter, depth, coursework["seconds"][nb], TRAIN_DEPTH, relative=True)
+            held, err = study.holdout_errors(fitter, depth, coursework["seconds"][nb], TRAIN_DEPTH, relative=True)
             axes[law].plot(held, 100 * err, "x", color=color, markersize=3.5, markeredgewidth=0.8)
             worst[law] = max(worst[law], float(np.abs(fits[law].relative_residuals).max()), float(np.abs(err).max()))
             print(f"  {law}: fitted to depths 1-{TRAIN_DEPTH}, error at depth 10 {100 * err[-1]:+.1f} %")
