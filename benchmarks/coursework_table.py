@@ -4,7 +4,7 @@ Run:  python benchmarks/coursework_table.py [--repeats N] [--quick]
 Writes ``data/derived/coursework_table.csv`` (read by :func:`bubbleoptics.study.load_timing`).
 
 Setting of the coursework's table: 960x960, one sample per pixel, trace depth 1 to 10, the scenes
-``data/scenes/seed_{one_bubble,two_bubbles,three_bubbles}.txt`` (reconstructions: the coursework
+``data/scenes/coursework_{one_bubble,two_bubbles,three_bubbles}.txt`` (reconstructions: the coursework
 does not give its scenes), each rendered pruned (the default threshold) and exhaustive (threshold
 0, the coursework's tree), compilation excluded, median of ``--repeats`` runs, all in one process.
 The coursework's own times (Apple M3 Pro, ``data/coursework_table_4_1.csv``) are written beside
@@ -27,7 +27,7 @@ from bubbleoptics.study import load_coursework_table, provenance, write_csv
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "coursework_table.csv"
 COURSEWORK_TABLE = ROOT / "data" / "coursework_table_4_1.csv"
-SCENES = {1: "seed_one_bubble.txt", 2: "seed_two_bubbles.txt", 3: "seed_three_bubbles.txt"}
+SCENES = {1: "coursework_one_bubble.txt", 2: "coursework_two_bubbles.txt", 3: "coursework_three_bubbles.txt"}
 
 
 def coursework_times():

@@ -80,6 +80,9 @@ __all__ = [
     "BETA_POLY_MAX",
     "film_evaluate",
     "film_rt",
+    "free_film_setup",
+    "free_film_evaluate",
+    "free_film_band_average",
     "two_beam_r",
     "multilayer_rt",
     "water_index_daimon2007",
@@ -952,6 +955,107 @@ def film_band_average(c, kq_a, kq_b, d, pol):
         T += c[7].real * _band_inverse_average(c[5].real, c[6].real * iq2, two_h, m_pi, s_delta, c_delta, c_sigma)
     if pol != POL_S:
         T += c[12].real * _band_inverse_average(c[10].real, c[11].real * iq2, two_h, m_pi, s_delta, c_delta, c_sigma)
+    if pol == POL_UNPOLARIZED:
+        T *= 0.5
+    T = min(T, 1.0)  # rounding only: T-bar <= 1 exactly, so R-bar >= 0
+    return 1.0 - T, T
+
+
+# --------------------------------------------------------------------------------------------
+# The free-standing lossless film (a soap bubble in air): the Airy sum's symmetric case
+# --------------------------------------------------------------------------------------------
+# With the same lossless medium on both sides (eta_2 = eta_0) and a lossless film with q1
+# real (n1 > n0 always qualifies), the real form of the module docstring loses its first
+# terms (eta_0 - eta_2 = 0) and, with sigma = sin(beta)/eta_1 and
+# (eta_0^2 + eta_1^2)^2 = (eta_0^2 - eta_1^2)^2 + 4 eta_0^2 eta_1^2, becomes Airy's formula
+# with the coefficient of finesse F (Born & Wolf, Principles of Optics, 7th ed., §7.6.1,
+# eqs. (17)-(19); Macleod, Thin-Film Optical Filters, 4th ed., §2.2):
+#     R = F sin^2 beta / (1 + F sin^2 beta),   T = 1 / (1 + F sin^2 beta),
+#     F = (eta_0^2 - eta_1^2)^2 / (4 eta_0^2 eta_1^2).
+# The difference comes from q1^2 - q0^2 = n1^2 - n0^2 exactly, so no digit is lost:
+#     s:  F_s = (n1^2 - n0^2)^2 / (4 q0^2 q1^2),
+#     p:  F_p = F_s g^2,   g = (q0^2 (n1^2 + n0^2) - n0^4) / (n0^2 n1^2)
+# (g = 0 at Brewster's angle, tan theta_0 = n1/n0).  Three numbers per (lambda, theta)
+# instead of film_setup's fourteen, and per thickness one sin^2 and two divisions: what the
+# tracer evaluates at every bubble hit.  For the band average, T(beta) = 1/(cos^2 + (1 + F)
+# sin^2) is the closed form (1) of the band section with C = 1, D' = 1 + F, t = 1.
+
+
+@njit(**_JIT)
+def free_film_setup(wavelength, cos0, n0, n1):
+    """Set-up of a free-standing lossless film: ``(kq, F_s, F_p)``, or ``(-1, 0, 0)``.
+
+    Parameters: *wavelength* λ (nm), *cos0* = cos θ0 of incidence, *n0* the real index on
+    both sides, *n1* the film's real index.  ``kq`` = 2π q1/λ (1/nm), the phase rate
+    (β = kq d); F_s, F_p the coefficients of finesse (section comment above).  kq = -1 when
+    the case does not apply (q1² <= 0: the film is at or beyond its critical angle, possible
+    only for n1 < n0); use :func:`film_setup` then.
+
+    >>> from bubbleoptics.kernels import free_film_setup, free_film_evaluate, film_rt
+    >>> c = free_film_setup(550.0, 0.8, 1.0, 1.33)
+    >>> R, T = free_film_evaluate(c, 300.0, 2)
+    >>> R0, T0 = film_rt(550.0, 300.0, 0.8, 1.0, 1.33 + 0j, 1.0 + 0j, 2)
+    >>> abs(R - R0) < 1e-15, abs(T - T0) < 1e-15
+    (True, True)
+    """
+    c0 = max(cos0, COS_MIN)
+    q0 = n0 * c0
+    dn2 = (n1 - n0) * (n1 + n0)  # n1^2 - n0^2 = q1^2 - q0^2
+    q1sq = dn2 + q0 * q0
+    if not q1sq > 0.0:
+        return -1.0, 0.0, 0.0
+    q1 = math.sqrt(q1sq)
+    Fs = dn2 * dn2 / (4.0 * q0 * q0 * q1sq)
+    n0sq = n0 * n0
+    n1sq = n1 * n1
+    g = (q0 * q0 * (n1sq + n0sq) - n0sq * n0sq) / (n0sq * n1sq)
+    return _TWO_PI / wavelength * q1, Fs, Fs * g * g
+
+
+@njit(**_JIT)
+def free_film_evaluate(c, d, pol):
+    """(R, T) of the free-standing lossless film of thickness *d* nm, *c* from
+    :func:`free_film_setup` (which must apply: kq >= 0); *pol* 0 (s), 1 (p), 2 (unpolarized).
+    Equal to :func:`film_evaluate` of :func:`film_setup` with ``n2 = n0`` to rounding."""
+    beta = c[0] * d
+    if beta <= BETA_POLY_MAX:
+        sn2, _ = sin2_cos2(beta)
+    else:
+        sb = math.sin(beta)
+        sn2 = sb * sb
+    R = 0.0
+    T = 0.0
+    if pol != POL_P:
+        x = c[1] * sn2
+        inv = 1.0 / (1.0 + x)
+        R += x * inv
+        T += inv
+    if pol != POL_S:
+        x = c[2] * sn2
+        inv = 1.0 / (1.0 + x)
+        R += x * inv
+        T += inv
+    if pol == POL_UNPOLARIZED:
+        R *= 0.5
+        T *= 0.5
+    return R, T
+
+
+@njit(**_JIT)
+def free_film_band_average(c, kq_a, kq_b, d, pol):
+    """(R̄, T̄) of the free-standing lossless film averaged uniformly in phase over a band:
+    :func:`film_band_average` for this case (closed form (1) with C = 1, D' = 1 + F, t = 1).
+    *c* from :func:`free_film_setup` at the band centre, *kq_a*, *kq_b* its phase rate at the
+    band's short and long edges."""
+    beta1, two_h, _ = _band_phase(kq_a, kq_b, d)
+    if not two_h > 0.0:
+        return free_film_evaluate((kq_b, c[1], c[2]), d, pol)
+    m_pi, _, s_delta, c_delta, _, c_sigma = _band_trig(beta1, two_h)
+    T = 0.0
+    if pol != POL_P:
+        T += _band_inverse_average(1.0, 1.0 + c[1], two_h, m_pi, s_delta, c_delta, c_sigma)
+    if pol != POL_S:
+        T += _band_inverse_average(1.0, 1.0 + c[2], two_h, m_pi, s_delta, c_delta, c_sigma)
     if pol == POL_UNPOLARIZED:
         T *= 0.5
     T = min(T, 1.0)  # rounding only: T-bar <= 1 exactly, so R-bar >= 0

@@ -69,3 +69,76 @@ def test_libm_fallback_beyond_poly_range():
     r_big, t_big = film_evaluate(c, d_big, 2)
     assert abs(r_big - r_small) < 1e-8
     assert abs(r_big + t_big - 1) < 1e-14
+
+
+# --------------------------------------------------------------------------------------------
+# The free-standing lossless film (bubbleoptics.kernels.free_film_*), the tracer's common case
+# --------------------------------------------------------------------------------------------
+_FREE_GRID = [
+    (wl, c0, n1, d, n0)
+    for wl in (380.0, 550.0, 780.0)
+    for c0 in (1.0, 0.8, 0.3, 0.05, 1e-4, 0.0)
+    for n1 in (1.0000001, 1.2, 1.333, 1.6, 2.5)
+    for d in (0.0, 5.0, 300.0, 2000.0, 20000.0)
+    for n0 in (1.0, 1.2)
+    if n1 > n0
+]
+
+
+@pytest.mark.reference
+def test_free_film_against_mpmath():
+    """free_film_setup/evaluate (Airy's formula with the coefficient of finesse) against the
+    40-digit Airy sum of bubbleoptics.study.reference, s, p and unpolarized, from normal to
+    exactly grazing incidence and from index match to n = 2.5: within 1e-13 absolute."""
+    from bubbleoptics.kernels import free_film_evaluate, free_film_setup
+    from bubbleoptics.study import reference as ref
+
+    worst = 0.0
+    for wl, c0, n1, d, n0 in _FREE_GRID[::3]:
+        theta = math.acos(c0)
+        c = free_film_setup(wl, c0, n0, n1)
+        assert c[0] >= 0.0
+        for pol, name in ((0, "s"), (1, "p"), (2, "unpolarized")):
+            R, T = free_film_evaluate(c, d, pol)
+            R_ref, T_ref = ref.film_rt_mp(wl, d, theta, n1, n0, n0, polarization=name)
+            worst = max(worst, abs(R - float(R_ref)), abs(T - float(T_ref)))
+    assert worst < 1e-13, worst
+
+
+@pytest.mark.reference
+def test_free_film_equals_the_general_kernel():
+    """The symmetric case agrees with film_setup/film_evaluate (n2 = n0) to rounding (5e-15),
+    and its band average with film_band_average (1e-14: one atan2 of slightly different
+    arguments); R + T = 1 to an ulp."""
+    from bubbleoptics.kernels import film_band_average, free_film_band_average, free_film_evaluate, free_film_setup
+
+    worst = worst_band = worst_sum = 0.0
+    for wl, c0, n1, d, n0 in _FREE_GRID:
+        c = free_film_setup(wl, c0, n0, n1)
+        g = film_setup(wl, c0, n0, n1 + 0j, n0 + 0j)
+        kq_a = free_film_setup(wl - 10.0, c0, n0, n1)[0]
+        kq_b = free_film_setup(wl + 10.0, c0, n0, n1)[0]
+        for pol in (0, 1, 2):
+            R, T = free_film_evaluate(c, d, pol)
+            R0, T0 = film_evaluate(g, d, pol)
+            worst = max(worst, abs(R - R0), abs(T - T0))
+            worst_sum = max(worst_sum, abs(R + T - 1.0))
+            Rb, Tb = free_film_band_average(c, kq_a, kq_b, d, pol)
+            Rb0, Tb0 = film_band_average(g, kq_a, kq_b, d, pol)
+            worst_band = max(worst_band, abs(Rb - Rb0), abs(Tb - Tb0))
+    assert worst < 5e-15 and worst_band < 1e-14 and worst_sum < 5e-16, (worst, worst_band, worst_sum)
+
+
+@pytest.mark.analytic
+def test_free_film_limits():
+    """Zero thickness and index match transmit everything; p light at Brewster's angle
+    (tan theta = n1/n0) is not reflected at any thickness; beyond the film's critical angle
+    (n1 < n0) the closed form declines (kq = -1)."""
+    from bubbleoptics.kernels import free_film_evaluate, free_film_setup
+
+    assert free_film_evaluate(free_film_setup(500.0, 0.7, 1.0, 1.33), 0.0, 2) == (0.0, 1.0)
+    assert free_film_evaluate(free_film_setup(500.0, 0.7, 1.33, 1.33), 812.0, 2) == (0.0, 1.0)
+    brewster = math.cos(math.atan(1.5))
+    R_p, T_p = free_film_evaluate(free_film_setup(500.0, brewster, 1.0, 1.5), 333.0, 1)
+    assert R_p < 1e-30 and T_p == 1.0
+    assert free_film_setup(500.0, 0.2, 1.5, 1.2)[0] == -1.0

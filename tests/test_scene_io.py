@@ -352,7 +352,7 @@ def test_shipped_coursework_scenes_load_and_round_trip_through_toml(tmp_path, pa
 
 
 def test_benchmark_scenes_hold_one_two_three_coursework_bubbles():
-    for n, name in enumerate(["seed_one_bubble", "seed_two_bubbles", "seed_three_bubbles"], start=1):
+    for n, name in enumerate(["coursework_one_bubble", "coursework_two_bubbles", "coursework_three_bubbles"], start=1):
         scene = load_scene(SCENES / f"{name}.txt")
         assert len(scene.bubbles) == n and not scene.spheres and not scene.meshes
         assert len(scene.lights) == 1

@@ -43,6 +43,8 @@ from numba import njit, prange
 
 from . import surfaces
 from .environment import environment_rgb
+from bubbleoptics.kernels import N_FILM_COEFFICIENTS
+
 from .geometry import intersect_bvh, intersect_sphere, offset_origin, sphere_hit_point
 from .layout import SURFACE_FILM
 from .sampling import camera_ray, stratified_offset
@@ -62,6 +64,11 @@ __all__ = [
 
 _JIT = dict(cache=True, error_model="numpy")
 _INLINE = dict(inline="always", **_JIT)
+#: The per-ray functions are compiled without numba's reference counting (``_nrt=False``): they
+#: allocate nothing and only read arrays their caller keeps alive, and with it every read of an
+#: array field of the scene or the workspace costs a call to NRT_incref and NRT_decref, which
+#: made a ray 5-8 times slower (docs/performance.md).
+_NO_NRT = dict(_nrt=False, **_JIT)
 
 GEOM_NONE = 0
 GEOM_SPHERE = 1
@@ -79,6 +86,8 @@ class Workspace(NamedTuple):
     stack_d: np.ndarray  # (S, 3) directions
     stack_w: np.ndarray  # (S, C) throughputs
     stack_gen: np.ndarray  # (S,) generations
+    stack_inside: np.ndarray  # (S,) int64: the sphere whose chord the ray runs along (-1: none)
+    stack_chord: np.ndarray  # (S,) cos(theta) at the chord's start (its end meets it the same)
     w: np.ndarray  # (C,) the current ray's throughput
     wr: np.ndarray  # (C,) mirror child's weight (surfaces.scatter)
     wt: np.ndarray  # (C,) transmitted child's weight
@@ -91,10 +100,15 @@ class Workspace(NamedTuple):
     T_shadow: np.ndarray
     L: np.ndarray  # (C,) radiance of the camera ray
     bvh_stack: np.ndarray  # (64,) int64
-    film_cos: np.ndarray  # (B,) last cos(theta) per uniform film (-1: none)
-    film_R: np.ndarray  # (B, C) and its R, T
+    film_coef_cos: np.ndarray  # (B,) cos(theta) of each film's kept set-up (-1: none)
+    film_coef: np.ndarray  # (B, C, N_FILM_COEFFICIENTS) complex: bubbleoptics.kernels.film_setup
+    free_kq: np.ndarray  # (B, C) bubbleoptics.kernels.free_film_setup (lossless films): kq,
+    free_Fs: np.ndarray  # F_s,
+    free_Fp: np.ndarray  # F_p
+    film_kq: np.ndarray  # (B, C + 1) band-edge phase rates (band-averaged films)
+    film_rt_cos: np.ndarray  # (B,) cos(theta) of a uniform film's kept R, T (-1: none)
+    film_R: np.ndarray  # (B, C)
     film_T: np.ndarray
-    kq_edges: np.ndarray  # (C + 1,) band-edge phase rates of a band-averaged film
     counts: np.ndarray  # (N_COUNTS,) int64 rays by kind
     ones: np.ndarray  # (C,) 1.0
 
@@ -108,10 +122,13 @@ def new_workspace(scene, depth):
     size = depth + 8
     return Workspace(
         np.empty((size, 3)), np.empty((size, 3)), np.empty((size, nc)), np.empty(size, dtype=np.int64),
+        np.empty(size, dtype=np.int64), np.empty(size),
         np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc),
         np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc),
         np.empty(_BVH_STACK, dtype=np.int64),
-        np.full(nb, -1.0), np.empty((nb, nc)), np.empty((nb, nc)), np.empty(nc + 1),
+        np.full(nb, -1.0), np.empty((nb, nc, N_FILM_COEFFICIENTS), dtype=np.complex128),
+        np.empty((nb, nc)), np.empty((nb, nc)), np.empty((nb, nc)), np.empty((nb, nc + 1)),
+        np.full(nb, -1.0), np.empty((nb, nc)), np.empty((nb, nc)),
         np.zeros(N_COUNTS, dtype=np.int64), np.ones(nc),
     )
 
@@ -218,134 +235,175 @@ def shadow_transmittance(scene, ws, p, lpos, trans):
 
 
 @njit(**_INLINE)
-def _push(ws, sp, o, d, w, gen):
+def _push(ws, sp, o, d, w, gen, inside, chord):
+    so = ws.stack_o
+    sd = ws.stack_d
+    sw = ws.stack_w
     for k in range(3):
-        ws.stack_o[sp, k] = o[k]
-        ws.stack_d[sp, k] = d[k]
+        so[sp, k] = o[k]
+        sd[sp, k] = d[k]
     for c in range(w.shape[0]):
-        ws.stack_w[sp, c] = w[c]
+        sw[sp, c] = w[c]
     ws.stack_gen[sp] = gen
+    ws.stack_inside[sp] = inside
+    ws.stack_chord[sp] = chord
     return sp + 1
 
 
 @njit(**_INLINE)
-def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter):
-    """Trace the child (origin *o*, direction *d*, throughput ``ws.w * weight``) or, if it is
-    cut, end it with the environment along *d* times *cut*.  Returns the stack pointer."""
+def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, inside, chord):
+    """Trace the child (origin *o*, direction *d*, throughput ``ws.w * weight``; running along a
+    chord of sphere *inside* met at cos *chord*, or *inside* = -1) or, if it is cut, end it
+    with the environment along *d* times *cut*.  Returns the stack pointer."""
     child = ws.child
+    w = ws.w
     m = 0.0
     for c in range(child.shape[0]):
-        child[c] = ws.w[c] * weight[c]
+        child[c] = w[c] * weight[c]
         m = max(m, child[c])
     if not m > 0.0:
         return sp  # no such lobe
     if gen < depth and (threshold <= 0.0 or m > threshold):
         ws.counts[counter] += 1
-        return _push(ws, sp, o, d, child, gen + 1)
+        return _push(ws, sp, o, d, child, gen + 1, inside, chord)
     add_environment(scene, L, child, cut, d)
     return sp
 
 
-@njit(**_JIT)
+@njit(**_NO_NRT)
 def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
     """Radiance per channel into ``ws.L`` of the camera ray (o0, d0), whose nearest hit *hit0*
-    (from :func:`closest_hit`) is already known and is not a miss."""
+    (from :func:`closest_hit`) is already known and is not a miss.
+
+    Chords: a ray that enters a sphere, or is reflected inside one, runs along a chord and
+    meets the sphere again at the angle it started with.  Such a child carries that cosine, and
+    when its next hit is that sphere the surface is evaluated at exactly that cosine (rather
+    than the one recomputed from a hit point moved by the ray-origin offset), which keeps the
+    chord property exact and lets the film reuse its set-up (:mod:`tracer.surfaces.soap_film`).
+    """
     L = ws.L
+    w = ws.w
     nc = L.shape[0]
+    stack_o = ws.stack_o
+    stack_d = ws.stack_d
+    stack_w = ws.stack_w
+    light_w = ws.light_w
+    trans = ws.trans
+    rad = scene.light_radiance
     for c in range(nc):
         L[c] = 0.0
         ws.child[c] = 1.0
-    sp = _push(ws, 0, o0, d0, ws.child, 1)
+    sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0)
     first = True
     eps = scene.eps
     lights = scene.lights
     while sp > 0:
         sp -= 1
-        o = (ws.stack_o[sp, 0], ws.stack_o[sp, 1], ws.stack_o[sp, 2])
-        d = (ws.stack_d[sp, 0], ws.stack_d[sp, 1], ws.stack_d[sp, 2])
+        o = (stack_o[sp, 0], stack_o[sp, 1], stack_o[sp, 2])
+        d = (stack_d[sp, 0], stack_d[sp, 1], stack_d[sp, 2])
         gen = ws.stack_gen[sp]
+        inside = ws.stack_inside[sp]
+        chord = ws.stack_chord[sp]
         for c in range(nc):
-            ws.w[c] = ws.stack_w[sp, c]  # the stack slot is reused by the children
+            w[c] = stack_w[sp, c]  # the stack slot is reused by the children
         if first:
             kind, idx, t, entering = hit0
             first = False
         else:
             kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf)
         if kind == GEOM_NONE:
-            add_environment(scene, L, ws.w, ws.ones, d)
+            add_environment(scene, L, w, ws.ones, d)
             continue
         skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t)
         dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
-        cos_i = abs(dn)
+        cos_g = abs(dn)  # geometric cos(theta), for directions
         sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
         nf = (sgn * n[0], sgn * n[1], sgn * n[2])
+        on_sphere = kind == GEOM_SPHERE
+        cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
         hit = (p, n, nf, d, cos_i, entering)
         tdir = surfaces.scatter(scene, ws, skind, sidx, hit)
         p_front = offset_origin(p, nf, eps)
         # local terms: ambient and the point lights
-        surfaces.ambient(scene, skind, sidx, ws.w, L)
+        surfaces.ambient(scene, skind, sidx, w, L)
         for j in range(lights.shape[0]):
             lp = lights[j].position
             lpos = (lp[0], lp[1], lp[2])
             ndl, rv = light_terms(lpos, p, nf, d)
-            if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, ws.light_w):
+            if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w):
                 continue
             if threshold > 0.0:
                 bound = 0.0
                 for c in range(nc):
-                    bound = max(bound, ws.w[c] * ws.light_w[c] * scene.light_radiance[j, c])
+                    bound = max(bound, w[c] * light_w[c] * rad[j, c])
                 if bound <= threshold:
                     continue  # this light can add at most `threshold` here: pruned
-            if shadow_transmittance(scene, ws, p_front, lpos, ws.trans):
+            if shadow_transmittance(scene, ws, p_front, lpos, trans):
                 for c in range(nc):
-                    L[c] += ws.w[c] * ws.light_w[c] * scene.light_radiance[j, c] * ws.trans[c]
-        # children: transmitted first (deeper in the stack), reflected on top
+                    L[c] += w[c] * light_w[c] * rad[j, c] * trans[c]
+        # children: transmitted first (deeper in the stack), reflected on top; on a sphere the
+        # one that ends up inside runs along a chord
         p_back = offset_origin(p, nf, -eps)
-        refl = (d[0] + 2.0 * cos_i * nf[0], d[1] + 2.0 * cos_i * nf[1], d[2] + 2.0 * cos_i * nf[2])
-        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2)
-        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1)
+        refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
+        t_inside = -1
+        t_chord = 0.0
+        r_inside = -1
+        if on_sphere and entering:
+            t_inside = idx
+            t_chord = cos_i if (tdir[0] == d[0] and tdir[1] == d[1] and tdir[2] == d[2]) else \
+                abs(tdir[0] * n[0] + tdir[1] * n[1] + tdir[2] * n[2])
+        elif on_sphere:
+            r_inside = idx
+        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord)
+        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i)
+
+
+@njit(**_NO_NRT)
+def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, counts):
+    """Render image row *y* (see :func:`render_rows`) with the thread's workspace *ws*."""
+    cam = scene.camera[0]
+    env = scene.environment[0]
+    o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
+    M = scene.rgb_round_trip
+    to_rgb = scene.to_rgb
+    L = ws.L
+    nc = L.shape[0]
+    ray_counts = ws.counts
+    for x in range(width):
+        pix = y * width + x
+        r = 0.0
+        g = 0.0
+        b = 0.0
+        for s in range(spp):
+            fx, fy = stratified_offset(seed, pix, s, spp)
+            d0 = camera_ray(cam, x + fx, y + fy, width, height)
+            ray_counts[0] += 1
+            hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf)
+            if hit0[0] == GEOM_NONE:
+                # a camera ray that meets nothing: the environment, straight to RGB
+                er, eg, eb = environment_rgb(env, scene.env_image, d0)
+                r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
+                g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
+                b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
+                continue
+            trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold)
+            for c in range(nc):
+                r += to_rgb[0, c] * L[c]
+                g += to_rgb[1, c] * L[c]
+                b += to_rgb[2, c] * L[c]
+        image[y, x, 0] = r / spp
+        image[y, x, 1] = g / spp
+        image[y, x, 2] = b / spp
+    for i in range(N_COUNTS):
+        counts[y, i] = ray_counts[i]
 
 
 @njit(parallel=True, **_JIT)
 def render_rows(scene, rows, width, height, spp, seed, depth, threshold, image, counts):
-    """Render the image rows ``rows`` (int64, any order) of a width x height image into
-    ``image[k]`` (linear sRGB) and their ray counts into ``counts[k]``, k the position in
-    *rows*.  Rows are independent (each sample's jitter is a hash of seed, pixel and sample),
-    so any split of the rows over calls and threads gives the same image."""
-    M = scene.rgb_round_trip
-    to_rgb = scene.to_rgb
+    """Render the rows ``rows`` (int64, distinct, any order) of ``image`` (height, width, 3:
+    linear sRGB) and their ray counts into ``counts`` (height, N_COUNTS).  Rows are
+    independent (each sample's jitter is a hash of seed, pixel and sample), so any split of
+    the rows over calls and threads gives the same image."""
     for k in prange(rows.shape[0]):
-        # records are read inside the parallel loop: numba cannot pass one into it by value
-        cam = scene.camera[0]
-        env = scene.environment[0]
-        o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
-        y = rows[k]
         ws = new_workspace(scene, depth)
-        L = ws.L
-        nc = L.shape[0]
-        for x in range(width):
-            pix = y * width + x
-            r = 0.0
-            g = 0.0
-            b = 0.0
-            for s in range(spp):
-                fx, fy = stratified_offset(seed, pix, s, spp)
-                d0 = camera_ray(cam, x + fx, y + fy, width, height)
-                ws.counts[0] += 1
-                hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf)
-                if hit0[0] == GEOM_NONE:
-                    er, eg, eb = environment_rgb(env, scene.env_image, d0)
-                    r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
-                    g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
-                    b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
-                    continue
-                trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold)
-                for c in range(nc):
-                    r += to_rgb[0, c] * L[c]
-                    g += to_rgb[1, c] * L[c]
-                    b += to_rgb[2, c] * L[c]
-            image[k, x, 0] = r / spp
-            image[k, x, 1] = g / spp
-            image[k, x, 2] = b / spp
-        for i in range(N_COUNTS):
-            counts[k, i] = ws.counts[i]
+        render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts)

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from bubbleoptics import band_spectral_weights, point_sampling_limit_nm, rgb_reflectance_basis, water_refractive_index
-from bubbleoptics.colorimetry import XYZ_TO_LINEAR_SRGB
+from bubbleoptics.colorimetry import XYZ_TO_LINEAR_SRGB, srgb_dominant_wavelengths
 
 from . import layout as lay
 from .bvh import build_bvh
@@ -34,14 +34,6 @@ _PROFILES = {"uniform": lay.PROFILE_UNIFORM, "draining": lay.PROFILE_DRAINING, "
 BASIS_NORMALISE_MAX_COND = 3.0
 
 
-def _srgb_dominant_wavelengths():
-    """Dominant wavelengths (nm) of the sRGB red, green and blue primaries (colour-science)."""
-    import colour
-
-    cs = colour.RGB_COLOURSPACES["sRGB"]
-    return np.array([float(colour.dominant_wavelength(p, cs.whitepoint)[0]) for p in cs.primaries])
-
-
 def channel_setup(spectral, n_bands):
     """(wavelengths, to_rgb (3, C), rgb_basis (C, 3)) for spectral or RGB transport.
 
@@ -56,7 +48,7 @@ def channel_setup(spectral, n_bands):
     that the run-time-against-error study quantifies.
     """
     if not spectral:
-        return _srgb_dominant_wavelengths(), np.eye(3), np.eye(3)
+        return srgb_dominant_wavelengths(), np.eye(3), np.eye(3)
     wl, w = band_spectral_weights(n_bands)
     to_rgb = XYZ_TO_LINEAR_SRGB @ w
     basis = rgb_reflectance_basis(n_bands)

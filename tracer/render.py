@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import os
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from bubbleoptics.atomic import write_atomically
 
 from .integrator import N_COUNTS, render_rows
 from .layout import RAY_COUNT_KINDS, PackedScene
@@ -60,12 +60,8 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
     """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``."""
     import numba
 
-    out = np.empty((rows.size, width, 3))
-    cnt = np.empty((rows.size, N_COUNTS), dtype=np.int64)
     with numba.parallel_chunksize(ROWS_PER_TASK):
-        render_rows(packed, rows, width, height, spp, seed, depth, threshold, out, cnt)
-    image[rows] = out
-    counts[rows] = cnt
+        render_rows(packed, rows, width, height, spp, seed, depth, threshold, image, counts)
 
 
 def _interleaved(height, n_parts):
@@ -165,25 +161,11 @@ def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=
                              spectral_method=spectral_method, progress=progress)[0]
 
 
-def _atomic_write(path: Path, write):
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    os.close(fd)
-    try:
-        write(tmp)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-
-
 def save_image(image, path, *, bits=8):
     """Save a linear-RGB image: ``.png`` as sRGB-encoded 8- or 16-bit, ``.npy`` as float linear RGB.
 
     PNG values are clipped to [0, 1] in linear light and encoded with the sRGB curve
-    (colour-science); no other tone mapping.  The file is written atomically (a temporary file
+    (:func:`bubbleoptics.colorimetry.linear_srgb_to_srgb`); no other tone mapping.  The file is written atomically (a temporary file
     in the same folder, then renamed), so a failed write leaves nothing behind.
     """
     path = Path(path)
@@ -196,19 +178,20 @@ def save_image(image, path, *, bits=8):
             with open(tmp, "wb") as f:
                 np.save(f, image)
 
-        _atomic_write(path, write_npy)
+        write_atomically(path, write_npy)
         return path
     if suffix != ".png":
         raise ValueError(f"unsupported image type {path.suffix!r}: use .png or .npy")
     if bits not in (8, 16):
         raise ValueError(f"bits must be 8 or 16 (got {bits!r})")
-    import colour
     import imageio.v3 as iio
 
-    encoded = colour.cctf_encoding(np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0), function="sRGB")
+    from bubbleoptics.colorimetry import linear_srgb_to_srgb
+
+    encoded = linear_srgb_to_srgb(np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0))
     if bits == 8:
         data = np.round(encoded * 255).astype(np.uint8)
-        _atomic_write(path, lambda tmp: iio.imwrite(tmp, data, extension=".png"))
+        write_atomically(path, lambda tmp: iio.imwrite(tmp, data, extension=".png"))
     else:
         # Pillow (imageio's PNG writer) has no 16-bit-per-channel RGB mode; pypng writes it
         import png
@@ -220,5 +203,5 @@ def save_image(image, path, *, bits=8):
             with open(tmp, "wb") as f:
                 png.Writer(width=w, height=h, bitdepth=16, greyscale=False).write(f, data.reshape(h, w * 3))
 
-        _atomic_write(path, write_png16)
+        write_atomically(path, write_png16)
     return path

@@ -46,8 +46,10 @@ def phong_ambient(scene, m, w, L):
     """``L += w * ka * C * ambient`` (per channel)."""
     ka = scene.phong[m].ambient
     if ka > 0.0:
+        col = scene.phong_color
+        amb = scene.ambient
         for c in range(L.shape[0]):
-            L[c] += w[c] * ka * scene.phong_color[m, c] * scene.ambient[c]
+            L[c] += w[c] * ka * col[m, c] * amb[c]
 
 
 @njit(**_INLINE)
@@ -60,8 +62,9 @@ def phong_toward_light(scene, ws, m, hit, ndl, rv, out):
     if ndl <= 0.0 or (kd <= 0.0 and ks <= 0.0):
         return False
     spec = ks * rv**mat.shininess if (ks > 0.0 and rv > 0.0) else 0.0
+    col = scene.phong_color
     for c in range(out.shape[0]):
-        out[c] = kd * ndl * scene.phong_color[m, c] + spec
+        out[c] = kd * ndl * col[m, c] + spec
     return True
 
 
@@ -93,12 +96,17 @@ def phong_scatter(scene, ws, m, hit):
             tdir = (tx / tn, ty / tn, tz / tn)
     kt_out = kt * (1.0 - F)
     kt_mirror = kt * F
-    for c in range(ws.wr.shape[0]):
-        col = scene.phong_color[m, c]
-        ws.wr[c] = ks * col + kt_mirror
-        ws.wt[c] = kt_out * col
-        ws.cut_r[c] = 1.0
-        ws.cut_t[c] = 1.0
+    colour = scene.phong_color
+    wr = ws.wr
+    wt = ws.wt
+    cut_r = ws.cut_r
+    cut_t = ws.cut_t
+    for c in range(wr.shape[0]):
+        col = colour[m, c]
+        wr[c] = ks * col + kt_mirror
+        wt[c] = kt_out * col
+        cut_r[c] = 1.0
+        cut_t[c] = 1.0
     return tdir
 
 
@@ -111,6 +119,7 @@ def phong_shadow(scene, ws, m, n, cos_i, entering, trans):
         return False
     ior = mat.ior
     F = fresnel_unpolarized(1.0, ior, cos_i) if entering else fresnel_unpolarized(ior, 1.0, cos_i)
+    col = scene.phong_color
     for c in range(trans.shape[0]):
-        trans[c] *= kt * (1.0 - F) * scene.phong_color[m, c]
+        trans[c] *= kt * (1.0 - F) * col[m, c]
     return True

@@ -22,9 +22,10 @@ it answers the integrator's questions (:mod:`tracer.surfaces`):
   child (depth limit or pruning) it ends the branch with that factor (see
   :func:`tracer.integrator.trace_camera_ray` for the bias this leaves).
 
-The same chord property lets a uniform film reuse R(λ), T(λ): the entry hit, the exit hit and
-every inner bounce of a path share one cos θ.  Each thread keeps, per film, its last
-(cos θ, R, T) in its :class:`tracer.integrator.Workspace`.
+The same chord property lets a path inside a bubble reuse the film's set-up, and a uniform
+film its R(λ), T(λ): the entry hit, the exit hit and every inner bounce share one cos θ
+(:func:`film_optics`; each thread keeps them per film in its
+:class:`tracer.integrator.Workspace`).
 
 Transport is unpolarized: R and T are the means of s and p at every hit, including the inner
 bounces (a path inside a sphere stays in one plane of incidence, so s and p would not mix
@@ -37,53 +38,113 @@ import math
 
 from numba import njit
 
-from bubbleoptics.kernels import POL_UNPOLARIZED, film_band_average, film_rt, film_setup, normal_wavevector
+from bubbleoptics.kernels import (
+    COS_MIN,
+    N_FILM_COEFFICIENTS,
+    POL_UNPOLARIZED,
+    film_band_average,
+    film_evaluate,
+    film_setup,
+    free_film_band_average,
+    free_film_evaluate,
+    free_film_setup,
+    normal_wavevector,
+)
 
 from ..films import film_thickness
 
-__all__ = ["COS_REUSE_TOL", "film_optics", "film_scatter", "film_toward_light", "film_shadow"]
+__all__ = ["film_optics", "film_scatter", "film_toward_light", "film_shadow"]
 
 _JIT = dict(cache=True, error_model="numpy")
 _INLINE = dict(inline="always", **_JIT)
 
-#: A uniform film's R, T are reused when cos(theta) agrees to this (absolute): the error in
-#: R is then below |dR/dcos| * 1e-12 < 1e-9 even for 10-micron films.
-COS_REUSE_TOL = 1e-12
-
+# A highlight lobe below this is not worth a shadow ray (and its logarithm).
+_SPEC_MIN = 1e-12
+_LOG_SPEC_MIN = math.log(_SPEC_MIN)
 
 @njit(**_INLINE)
 def film_optics(scene, ws, b, n_out, cos_i, R, T):
     """Fill R[c], T[c] (unpolarized, per channel) of film *b* at the point with outward unit
-    normal *n_out*, hit at cos(theta) = *cos_i*; reuses the thread's last values for a
-    uniform film at the same angle."""
+    normal *n_out*, met at cos(theta) = *cos_i*.
+
+    A lossless film (every channel's index real) uses the free-standing film's closed form
+    (:func:`~bubbleoptics.kernels.free_film_setup`, three numbers per channel), an absorbing
+    one the general Airy sum (:func:`~bubbleoptics.kernels.film_setup`); either way at the
+    band centres, or averaged over each band when ``scene.band_mode`` is 1.
+
+    Work a path inside a bubble does not need is skipped: the per-channel set-up (everything
+    but the thickness) is kept per film for the last cos(theta), and a uniform film keeps its
+    last R, T as well.  The integrator hands every hit at the end of a chord the exact cos of
+    its start (:func:`tracer.integrator.trace_camera_ray`), so the exit hit and every inner
+    bounce of a path find them (exact equality, no tolerance).
+    """
     f = scene.films[b]
     nc = R.shape[0]
-    if f.uniform and abs(ws.film_cos[b] - cos_i) <= COS_REUSE_TOL:
+    if f.uniform and ws.film_rt_cos[b] == cos_i:
+        fr = ws.film_R
+        ft = ws.film_T
         for c in range(nc):
-            R[c] = ws.film_R[b, c]
-            T[c] = ws.film_T[b, c]
+            R[c] = fr[b, c]
+            T[c] = ft[b, c]
         return
     d_nm = film_thickness(f, scene.film_maps, n_out)
-    if scene.band_mode == 1:
-        q0 = max(cos_i, 1e-150)
-        kq = ws.kq_edges
-        for e in range(nc + 1):
-            kq[e] = 2.0 * math.pi / scene.band_edges[e] * normal_wavevector(scene.film_n_edges[b, e], 1.0, q0).real
+    band = scene.band_mode == 1
+    lossless = f.lossless
+    kq = ws.film_kq
+    fkq = ws.free_kq
+    ffs = ws.free_Fs
+    ffp = ws.free_Fp
+    coef = ws.film_coef
+    if ws.film_coef_cos[b] != cos_i:
+        wl = scene.wavelengths
+        nf = scene.film_n
+        if lossless:
+            for c in range(nc):
+                kq_c, fs, fp = free_film_setup(wl[c], cos_i, 1.0, nf[b, c].real)
+                fkq[b, c] = kq_c
+                ffs[b, c] = fs
+                ffp[b, c] = fp
+        else:
+            for c in range(nc):
+                setup = film_setup(wl[c], cos_i, 1.0, nf[b, c], 1.0 + 0j)
+                for k in range(N_FILM_COEFFICIENTS):
+                    coef[b, c, k] = setup[k]
+        if band:
+            q0 = max(cos_i, COS_MIN)
+            edges = scene.band_edges
+            ne = scene.film_n_edges
+            for e in range(nc + 1):
+                kq[b, e] = 2.0 * math.pi / edges[e] * normal_wavevector(ne[b, e], 1.0, q0).real
+        ws.film_coef_cos[b] = cos_i
+    # one branch-free loop per case, so that the common one (lossless, point) vectorizes
+    if lossless and not band:
         for c in range(nc):
-            coef = film_setup(scene.wavelengths[c], cos_i, 1.0, scene.film_n[b, c], 1.0 + 0j)
-            r, t = film_band_average(coef, kq[c], kq[c + 1], d_nm, POL_UNPOLARIZED)
+            r, t = free_film_evaluate((fkq[b, c], ffs[b, c], ffp[b, c]), d_nm, POL_UNPOLARIZED)
+            R[c] = r
+            T[c] = t
+    elif lossless:
+        for c in range(nc):
+            r, t = free_film_band_average((fkq[b, c], ffs[b, c], ffp[b, c]), kq[b, c], kq[b, c + 1], d_nm,
+                                          POL_UNPOLARIZED)
+            R[c] = r
+            T[c] = t
+    elif band:
+        for c in range(nc):
+            r, t = film_band_average(coef[b, c], kq[b, c], kq[b, c + 1], d_nm, POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
     else:
         for c in range(nc):
-            r, t = film_rt(scene.wavelengths[c], d_nm, cos_i, 1.0, scene.film_n[b, c], 1.0 + 0j, POL_UNPOLARIZED)
+            r, t = film_evaluate(coef[b, c], d_nm, POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
     if f.uniform:
-        ws.film_cos[b] = cos_i
+        ws.film_rt_cos[b] = cos_i
+        fr = ws.film_R
+        ft = ws.film_T
         for c in range(nc):
-            ws.film_R[b, c] = R[c]
-            ws.film_T[b, c] = T[c]
+            fr[b, c] = R[c]
+            ft[b, c] = T[c]
 
 
 @njit(**_INLINE)
@@ -98,17 +159,19 @@ def film_scatter(scene, ws, b, hit):
     wt = ws.wt
     film_optics(scene, ws, b, n, cos_i, wr, wt)
     lossless = scene.films[b].lossless
+    cut_r = ws.cut_r
+    cut_t = ws.cut_t
     for c in range(wr.shape[0]):
         inner = 1.0
         if not lossless:
             rest = 1.0 - wr[c]
             inner = min(1.0, wt[c] / rest) if rest > 0.0 else 1.0
         if entering:
-            ws.cut_r[c] = 1.0
-            ws.cut_t[c] = inner
+            cut_r[c] = 1.0
+            cut_t[c] = inner
         else:
-            ws.cut_r[c] = inner
-            ws.cut_t[c] = 1.0
+            cut_r[c] = inner
+            cut_t[c] = 1.0
     return d
 
 
@@ -117,20 +180,24 @@ def film_toward_light(scene, ws, b, hit, ndl, rv, out):
     """The highlight seen from the viewer per unit of the light's radiance:
     ``out[c] = R[c] rv^shininess`` with R from :func:`film_scatter` (``ws.wr``); False when the
     lobe is negligible (the light's mirror image points away from the viewer)."""
-    if rv <= 0.0:
+    shin = scene.films[b].shininess
+    # rv^s <= exp(s (rv - 1)) (ln x <= x - 1): skip the power where that bound is already tiny
+    if rv <= 0.0 or shin * (rv - 1.0) < _LOG_SPEC_MIN:
         return False
-    spec = rv ** scene.films[b].shininess
-    if spec < 1e-12:
+    spec = rv**shin
+    if spec < _SPEC_MIN:
         return False
+    wr = ws.wr
     for c in range(out.shape[0]):
-        out[c] = ws.wr[c] * spec
+        out[c] = wr[c] * spec
     return True
 
 
 @njit(**_INLINE)
 def film_shadow(scene, ws, b, n, cos_i, entering, trans):
     """A shadow ray crossing film *b*: ``trans *= T`` (per channel); True (a film never stops one)."""
-    film_optics(scene, ws, b, n, cos_i, ws.R_shadow, ws.T_shadow)
+    T = ws.T_shadow
+    film_optics(scene, ws, b, n, cos_i, ws.R_shadow, T)
     for c in range(trans.shape[0]):
-        trans[c] *= ws.T_shadow[c]
+        trans[c] *= T[c]
     return True

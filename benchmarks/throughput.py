@@ -1,0 +1,213 @@
+"""Tracer throughput against a minimal kernel of its own, in one process, interleaved.
+
+Run:  python benchmarks/throughput.py [--repeats N] [--quick]
+Writes ``data/derived/throughput.csv``.
+
+The floor (:func:`floor_kernel`) is the least a ray tracer can do per pixel: one camera ray
+against three spheres (textbook quadratic), the nearest hit, one mirror bounce against the
+same spheres, a constant environment; parallel over rows like the tracer.  Each case is a
+full ``tracer.render_with_stats`` call (packing the scene, the first call's measurement,
+everything a user waits for; compilation excluded, the kernels come from numba's cache),
+timed right after a floor run with the same thread count, so that both see the same load on
+this shared machine; the ratio of each pair is what is reported (median and range over the
+repeats), beside the seconds and rays per second.  Cases, all 960x960 at one sample per pixel:
+
+* ``empty``: no objects, a constant environment (RGB transport);
+* ``coursework_{1,2,3}_bubbles`` at depth 1 and 10: the scenes of the coursework's table 4.1
+  (``data/scenes/seed_*.txt``), defaults otherwise;
+* ``builtin``: ``tracer.default_scene()`` at the defaults (what ``make demo`` renders).
+
+Every case runs with 1 and with 2 threads (``numba.set_num_threads``).  Finally a fresh
+process is timed twice: ``import tracer``, and ``python -m tracer image OUT.png`` of the
+built-in scene at 960x960 (start to saved file).
+"""
+
+import argparse
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from bubbleoptics.study.results import provenance, write_csv
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "data" / "derived" / "throughput.csv"
+COURSEWORK_SCENES = {1: "coursework_one_bubble.txt", 2: "coursework_two_bubbles.txt", 3: "coursework_three_bubbles.txt"}
+
+
+@njit(parallel=True, cache=True)
+def floor_kernel(width, height, centers, radii, background, out):
+    """The floor: per pixel one camera ray, three spheres, nearest hit, one mirror bounce."""
+    for y in prange(height):
+        for x in range(width):
+            dx = (2.0 * (x + 0.5) / width - 1.0) * 0.5
+            dy = (1.0 - 2.0 * (y + 0.5) / height) * 0.5
+            dz = -1.0
+            inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
+            dx *= inv
+            dy *= inv
+            dz *= inv
+            ox = oy = oz = 0.0
+            value = 0.0
+            weight = 1.0
+            for _ in range(2):
+                best = np.inf
+                hit = -1
+                for i in range(centers.shape[0]):
+                    fx = ox - centers[i, 0]
+                    fy = oy - centers[i, 1]
+                    fz = oz - centers[i, 2]
+                    b = fx * dx + fy * dy + fz * dz
+                    disc = b * b - (fx * fx + fy * fy + fz * fz - radii[i] * radii[i])
+                    if disc > 0.0:
+                        t = -b - math.sqrt(disc)
+                        if t > 1e-9 and t < best:
+                            best = t
+                            hit = i
+                if hit < 0:
+                    value += weight * background
+                    break
+                px = ox + best * dx
+                py = oy + best * dy
+                pz = oz + best * dz
+                nx = (px - centers[hit, 0]) / radii[hit]
+                ny = (py - centers[hit, 1]) / radii[hit]
+                nz = (pz - centers[hit, 2]) / radii[hit]
+                dn = dx * nx + dy * ny + dz * nz
+                dx -= 2.0 * dn * nx
+                dy -= 2.0 * dn * ny
+                dz -= 2.0 * dn * nz
+                ox, oy, oz = px, py, pz
+                weight *= 0.5
+            out[y, x] = value
+
+
+def cases(tracer):
+    from tracer.scene import Environment, Scene
+
+    empty = Scene(environment=Environment(kind="constant", color=(0.5, 0.5, 0.5)))
+    out = [("empty", empty, tracer.DEFAULTS["depth"])]
+    for nb, name in COURSEWORK_SCENES.items():
+        scene = tracer.load_scene(ROOT / "data" / "scenes" / name)
+        for depth in (1, 10):
+            out.append((f"coursework_{nb}_bubble{'s' if nb > 1 else ''}", scene, depth))
+    out.append(("builtin", tracer.default_scene(), tracer.DEFAULTS["depth"]))
+    return out
+
+
+def fresh_process_seconds(args_list, repeats):
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, *args_list], check=True, stdout=subprocess.DEVNULL)
+        times.append(time.perf_counter() - t0)
+    return times
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--quick", action="store_true", help="240x240, two repeats (smoke test)")
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args(argv)
+    size = 240 if args.quick else 960
+    repeats = 2 if args.quick else args.repeats
+
+    import tracer
+
+    centers = np.array([[0.0, 0.0, -5.0], [1.5, 0.0, -6.0], [-1.5, 0.0, -6.0]])
+    radii = np.array([1.0, 0.7, 0.7])
+    floor_out = np.zeros((size, size))
+    floor_kernel(size, size, centers, radii, 0.5, floor_out)
+    todo = cases(tracer)
+    for _, scene, depth in todo:  # compile or load every kernel before timing
+        tracer.render(scene, width=8, height=8, depth=depth, progress=False)
+    max_threads = numba.config.NUMBA_NUM_THREADS
+    thread_counts = [t for t in (1, 2) if t <= max_threads]
+    samples = {}  # (case, depth, threads) -> list of (seconds, floor seconds, rays)
+    for rep in range(repeats):
+        for threads in thread_counts:
+            numba.set_num_threads(threads)
+            for name, scene, depth in todo:
+                t0 = time.perf_counter()
+                floor_kernel(size, size, centers, radii, 0.5, floor_out)
+                t_floor = time.perf_counter() - t0
+                t0 = time.perf_counter()
+                _, stats = tracer.render_with_stats(scene, width=size, height=size, depth=depth, progress=False)
+                t_case = time.perf_counter() - t0
+                samples.setdefault((name, depth, threads), []).append((t_case, t_floor, stats.rays["total"]))
+        print(f"repeat {rep + 1}/{repeats} done", file=sys.stderr)
+    numba.set_num_threads(max_threads)
+
+    rows = []
+    for (name, depth, threads), runs in samples.items():
+        sec = np.array([r[0] for r in runs])
+        flo = np.array([r[1] for r in runs])
+        ratio = sec / flo
+        rays = runs[0][2]
+        rows.append(dict(
+            case=name, depth=depth, threads=threads, width=size, height=size, repeats=len(runs),
+            seconds_median=float(np.median(sec)), seconds_min=float(sec.min()), seconds_max=float(sec.max()),
+            floor_seconds_median=float(np.median(flo)), ratio_to_floor_median=float(np.median(ratio)),
+            ratio_to_floor_min=float(ratio.min()), ratio_to_floor_max=float(ratio.max()),
+            rays_total=rays, rays_per_second=float(rays / np.median(sec)),
+        ))
+
+    def get(name, depth, threads):
+        return next(r for r in rows if (r["case"], r["depth"], r["threads"]) == (name, depth, threads))
+
+    # speed-up from 1 to 2 threads per case (medians)
+    if len(thread_counts) == 2:
+        for r in rows:
+            r["speedup_1_to_2_threads"] = (get(r["case"], r["depth"], 1)["seconds_median"]
+                                           / get(r["case"], r["depth"], 2)["seconds_median"])
+
+    # fresh processes
+    png = Path(tempfile.mkdtemp()) / "builtin.png"
+    fresh = {
+        "fresh process: import tracer": ["-c", "import tracer"],
+        "fresh process: built-in scene to PNG": ["-m", "tracer", "image", str(png), "--quiet", "--width",
+                                                 str(size), "--height", str(size)],
+    }
+    for name, cmd in fresh.items():
+        times = np.array(fresh_process_seconds(cmd, repeats))
+        rows.append(dict(case=name, depth=tracer.DEFAULTS["depth"], threads=max_threads, width=size, height=size,
+                         repeats=repeats, seconds_median=float(np.median(times)), seconds_min=float(times.min()),
+                         seconds_max=float(times.max())))
+
+    print(f"\n{size}x{size}, 1 spp; seconds median [min, max] over {repeats}; ratio to the floor kernel "
+          "(median [min, max] of the interleaved pairs)")
+    for r in rows:
+        line = f"{r['case']:38s} depth {r['depth']:2d} threads {r['threads']}: {r['seconds_median']:.4f} s " \
+               f"[{r['seconds_min']:.4f}, {r['seconds_max']:.4f}]"
+        if "ratio_to_floor_median" in r:
+            line += (f"  x floor {r['ratio_to_floor_median']:6.1f} [{r['ratio_to_floor_min']:.1f}, "
+                     f"{r['ratio_to_floor_max']:.1f}]  {r['rays_per_second'] / 1e6:7.2f} Mrays/s")
+        if "speedup_1_to_2_threads" in r:
+            line += f"  1->2 threads {r['speedup_1_to_2_threads']:.2f}x"
+        print(line)
+    if len(thread_counts) == 2:
+        d10 = get("coursework_3_bubbles", 10, 2)["seconds_median"]
+        d1 = get("coursework_3_bubbles", 1, 2)["seconds_median"]
+        print(f"three bubbles, 2 threads: depth 10 / depth 1 = {d10 / d1:.2f}")
+
+    fields = ["case", "depth", "threads", "width", "height", "repeats", "seconds_median", "seconds_min",
+              "seconds_max", "floor_seconds_median", "ratio_to_floor_median", "ratio_to_floor_min",
+              "ratio_to_floor_max", "rays_total", "rays_per_second", "speedup_1_to_2_threads"]
+    write_csv(args.out, rows, provenance("benchmarks/throughput.py",
+                                         f"{os.cpu_count()} cores visible, numba threads {max_threads}; "
+                                         "regenerate with: python benchmarks/throughput.py"),
+              fieldnames=fields, float_format="{:.6g}")
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
