@@ -23,6 +23,7 @@ import numpy as np
 
 from . import _args
 from .film import film_reflectance, film_transmittance
+from .kernels import srgb_decode_array, srgb_encode_array
 
 __all__ = [
     "DEFAULT_OBSERVER",
@@ -236,13 +237,13 @@ def srgb_dominant_wavelengths():
     return colour_tables()["srgb_dominant_wavelengths_nm"].copy()
 
 
-# The sRGB transfer functions (IEC 61966-2-1:1999), written here rather than called from
-# colour-science (colour.cctf_encoding / cctf_decoding with function="sRGB") only because
-# importing colour-science costs a render one to several seconds of start-up for two lines of
-# arithmetic.  They follow colour-science's eotf_inverse_sRGB and eotf_sRGB operation for
-# operation, so the results are identical to the bit (tests/test_colorimetry.py checks it).
-_SRGB_LINEAR_BELOW = 0.0031308  # linear-light value where the curve turns from linear to power
-_SRGB_ENCODED_BELOW = _SRGB_LINEAR_BELOW * 12.92  # the same point encoded (0.040449936)
+def _elementwise(kernel, a):
+    """Apply a 1-D array kernel of :mod:`bubbleoptics.kernels` to any array (a new float array)."""
+    a = np.asarray(a, dtype=float)
+    flat = np.ascontiguousarray(a).ravel()
+    out = np.empty_like(flat)
+    kernel(flat, out)
+    return out.reshape(a.shape)[()]
 
 
 def linear_srgb_to_srgb(x):
@@ -253,15 +254,13 @@ def linear_srgb_to_srgb(x):
     Elementwise on any array; values outside [0, 1] are not clipped (negative values stay on
     the linear segment), NaN gives NaN.  Equal to the bit to
     ``colour.cctf_encoding(x, function="sRGB")``; written here only so that a render need not
-    import colour-science (start-up time, see the comment above).
+    import colour-science (start-up time; the formula is :func:`bubbleoptics.kernels.srgb_encode`).
 
     >>> from bubbleoptics.colorimetry import linear_srgb_to_srgb
     >>> round(float(linear_srgb_to_srgb(0.18)), 7)
     0.4613561
     """
-    x = np.asarray(x, dtype=float)
-    power = 1.055 * np.maximum(x, _SRGB_LINEAR_BELOW) ** (1 / 2.4) - 0.055
-    return np.where(x <= _SRGB_LINEAR_BELOW, x * 12.92, power)[()]
+    return _elementwise(srgb_encode_array, x)
 
 
 def srgb_to_linear_srgb(v):
@@ -278,9 +277,7 @@ def srgb_to_linear_srgb(v):
     >>> round(float(srgb_to_linear_srgb(128 / 255)), 6)
     0.215861
     """
-    v = np.asarray(v, dtype=float)
-    power = ((np.maximum(v, _SRGB_ENCODED_BELOW) + 0.055) / 1.055) ** 2.4
-    return np.where(v <= _SRGB_ENCODED_BELOW, v / 12.92, power)[()]
+    return _elementwise(srgb_decode_array, v)
 
 
 def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER):

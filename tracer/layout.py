@@ -81,7 +81,8 @@ PHONG = np.dtype([("ambient", np.float64), ("diffuse", np.float64), ("specular",
 
 #: A soap film on a sphere: its thickness profile (tracer.films), highlight exponent and
 #: whether it is lossless (every channel's index real); its index per channel is
-#: ``PackedScene.film_n`` (band centres) and ``film_n_edges`` (band edges).
+#: ``PackedScene.film_n + 1j * film_k`` (band centres) and ``film_n_edges``, ``film_k_edges``
+#: (band edges).
 FILM = np.dtype([
     ("profile", np.int64),
     ("thickness_nm", np.float64),  # uniform
@@ -139,8 +140,10 @@ class PackedScene(NamedTuple):
     phong: np.ndarray  # (M,) PHONG
     phong_color: np.ndarray  # (M, C) reflectance per channel
     films: np.ndarray  # (B,) FILM
-    film_n: np.ndarray  # (B, C) film index at the band centres (or RGB wavelengths)
-    film_n_edges: np.ndarray  # (B, C + 1) film index at the band edges (band-averaged films)
+    film_n: np.ndarray  # (B, C) film index n at the band centres (or RGB wavelengths) ...
+    film_k: np.ndarray  # (B, C) ... and its extinction coefficient k (the index is n + ik)
+    film_n_edges: np.ndarray  # (B, C + 1) n and k at the band edges (band-averaged films)
+    film_k_edges: np.ndarray
     film_maps: np.ndarray  # (K,) float64: every map film's (N_theta, N_phi) table, flattened
     # -- lights, environment, camera
     lights: np.ndarray  # (L,) LIGHT

@@ -46,8 +46,8 @@ from bubbleoptics.kernels import (
     film_evaluate,
     film_setup,
     free_film_band_average,
-    free_film_evaluate,
-    free_film_setup,
+    free_film_evaluate_bands,
+    free_film_setup_bands,
     normal_wavevector,
 )
 
@@ -97,31 +97,25 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
     coef = ws.film_coef
     if ws.film_coef_cos[b] != cos_i:
         wl = scene.wavelengths
-        nf = scene.film_n
         if lossless:
-            for c in range(nc):
-                kq_c, fs, fp = free_film_setup(wl[c], cos_i, 1.0, nf[b, c].real)
-                fkq[b, c] = kq_c
-                ffs[b, c] = fs
-                ffp[b, c] = fp
+            free_film_setup_bands(wl, scene.film_n[b], cos_i, 1.0, fkq[b], ffs[b], ffp[b])
         else:
+            fn = scene.film_n
+            fk = scene.film_k
             for c in range(nc):
-                setup = film_setup(wl[c], cos_i, 1.0, nf[b, c], 1.0 + 0j)
+                setup = film_setup(wl[c], cos_i, 1.0, complex(fn[b, c], fk[b, c]), 1.0 + 0j)
                 for k in range(N_FILM_COEFFICIENTS):
                     coef[b, c, k] = setup[k]
         if band:
             q0 = max(cos_i, COS_MIN)
             edges = scene.band_edges
             ne = scene.film_n_edges
+            ke = scene.film_k_edges
             for e in range(nc + 1):
-                kq[b, e] = 2.0 * math.pi / edges[e] * normal_wavevector(ne[b, e], 1.0, q0).real
+                kq[b, e] = 2.0 * math.pi / edges[e] * normal_wavevector(complex(ne[b, e], ke[b, e]), 1.0, q0).real
         ws.film_coef_cos[b] = cos_i
-    # one branch-free loop per case, so that the common one (lossless, point) vectorizes
     if lossless and not band:
-        for c in range(nc):
-            r, t = free_film_evaluate((fkq[b, c], ffs[b, c], ffp[b, c]), d_nm, POL_UNPOLARIZED)
-            R[c] = r
-            T[c] = t
+        free_film_evaluate_bands(fkq[b], ffs[b], ffp[b], d_nm, POL_UNPOLARIZED, R, T)
     elif lossless:
         for c in range(nc):
             r, t = free_film_band_average((fkq[b, c], ffs[b, c], ffp[b, c]), kq[b, c], kq[b, c + 1], d_nm,
