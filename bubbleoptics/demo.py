@@ -4,7 +4,7 @@ Writes two figures of a free-standing water film in air (water's dispersive inde
 Masumura 2007) to DIR (default ``demo-output/``) and prints the absolute path of each:
 
 * ``reflectance_vs_thickness.png``: R against thickness 0-2000 nm at 450, 550 and 650 nm, at
-  normal incidence and at 60°, unpolarized; exact Airy sum (solid) and the seed's two-beam model
+  normal incidence and at 60°, unpolarized; exact Airy sum (solid) and the coursework's two-beam model
   (dashed).
 * ``interference_colors.png``: the reflected interference colours under D65 for 0-2000 nm at 0°
   and 60°.

@@ -1,4 +1,4 @@
-"""Reflectance and transmittance of one thin film: the exact Airy sum and the seed's two-beam model.
+"""Reflectance and transmittance of one thin film: the exact Airy sum and the coursework's two-beam model.
 
 Units: wavelength and thickness in nm, angles in radians, complex index n + ik with k >= 0.
 Every argument broadcasts like NumPy; the film index may be given per wavelength.
@@ -143,7 +143,7 @@ def film_transmittance(
 def two_beam_reflectance(
     wavelength_nm, thickness_nm, theta, n_film=None, n_outside=1.0, polarization="unpolarized"
 ):
-    """The seed's two-beam model of a soap film, normalised to compare with the exact result.
+    """The coursework's two-beam model of a soap film, normalised to compare with the exact result.
 
     The coursework's eqs. (1.1)-(1.3): path difference :math:`\\Delta = 2dn_1\\cos\\theta_1 -
     \\lambda/2`, phase :math:`\\delta = 2\\pi\\Delta/\\lambda`, intensity

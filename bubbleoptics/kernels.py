@@ -475,11 +475,11 @@ def film_rt(wavelength, thickness, cos0, n0, n1, n2, pol):
 
 
 # --------------------------------------------------------------------------------------------
-# The seed's two-beam model (coursework eqs. 1.1-1.3)
+# The coursework's two-beam model (coursework eqs. 1.1-1.3)
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT)
 def two_beam_r(wavelength, thickness, cos0, n0, n1, pol):
-    """The seed's two-beam reflectance, normalised by the first interface's reflectance.
+    """The coursework's two-beam reflectance, normalised by the first interface's reflectance.
 
     Seed eqs. (1.1)-(1.3): :math:`\\Delta = 2 d n_1\\cos\\theta_1 - \\lambda/2`,
     :math:`\\delta = 2\\pi\\Delta/\\lambda`, :math:`I = 2 I_0 (1 + \\cos\\delta)`.  With

@@ -132,7 +132,7 @@ def film_strip_colors(
     """Display sRGB of a film seen in reflection, one colour per thickness, and the exposure used.
 
     With ``model="exact"`` and ``exposure=1`` this is :func:`bubbleoptics.film_color` (the same
-    spectrum, XYZ and sRGB steps).  ``model="two_beam"`` uses the seed's two-beam spectra
+    spectrum, XYZ and sRGB steps).  ``model="two_beam"`` uses the coursework's two-beam spectra
     (:func:`bubbleoptics.two_beam_reflectance`) instead.  *exposure* multiplies XYZ before the
     sRGB conversion, like a camera exposure: ``1.0`` is absolute (a perfect reflector is white,
     so a water film, reflecting at most ~8 % at normal incidence, looks dark), ``"auto"`` scales
@@ -190,7 +190,7 @@ def plot_reflectance_vs_thickness(
 
     Each line has the colour of its wavelength (:func:`wavelength_line_color`) unless ``color``
     is given.  ``model="exact"`` draws the Airy sum (:func:`bubbleoptics.film_reflectance`),
-    ``model="two_beam"`` the seed's two-beam model; draw both on one axes with, e.g.,
+    ``model="two_beam"`` the coursework's two-beam model; draw both on one axes with, e.g.,
     ``linestyle="--"`` for the second.  *label* is a format string with the field
     ``wavelength`` (or None for unlabelled lines).  *n_film* is None (water, dispersive), a
     scalar, or one value per wavelength.  The axis labels are set only if still empty.

@@ -730,7 +730,7 @@ def test_multilayer_absent_and_split_layers(pol, n0, n_inside):
 
 
 # ---------------------------------------------------------------------------------------------
-# The seed's two-beam model
+# The coursework's two-beam model
 # ---------------------------------------------------------------------------------------------
 @pytest.mark.analytic
 @pytest.mark.parametrize("pol", POLS)
@@ -769,7 +769,7 @@ def test_two_beam_error_is_second_order_in_R01(pol, theta):
 
     so |R_2b - R| <= 4 rho^2 (2 + rho)/(1 - rho)^2 ~ 8 rho^2, the maximum reached for
     quarter-wave films (s = 1), where R_2b - R = 4 rho^2 (2 + rho)/(1 + rho)^2.
-    (For water, rho = 0.02, this is 3e-3: the seed's model is good to ~10 % of R.)
+    (For water, rho = 0.02, this is 3e-3: the coursework's model is good to ~10 % of R.)
     """
     wl = WAVELENGTHS[1:-2]
     n = water_refractive_index(wl)

@@ -348,7 +348,7 @@ def test_npy_is_float_linear_rgb_equal_to_tracer_render(tmp_path, capsys):
     expected = tracer.render(tracer.load_scene(ONE_BUBBLE), width=12, height=7, depth=3, spp=2, threshold=0.0,
                              spectral_samples=8, seed=5)
     np.testing.assert_array_equal(image, expected)
-    assert image[0, 0].tolist() == [0.0, 0.0, 0.0]  # the seed's black background, exactly
+    assert image[0, 0].tolist() == [0.0, 0.0, 0.0]  # the coursework's black background, exactly
     assert image.max() > 0.0
 
 
@@ -404,7 +404,7 @@ def test_background_sets_a_constant_environment(tmp_path, capsys):
     # the bubble scene is rendered spectrally (16 bands): a constant RGB environment comes back
     # through the spectral round trip within about 0.005 in linear light, about one 8-bit step
     np.testing.assert_allclose(srgb_to_linear(corners, 255), np.tile([0.2, 0.4, 0.6], (4, 1)), atol=2 / 255)
-    assert (black[[0, 0, -1, -1], [0, -1, 0, -1]] == 0).all()  # the seed's black background otherwise
+    assert (black[[0, 0, -1, -1], [0, -1, 0, -1]] == 0).all()  # the coursework's black background otherwise
     assert (bg != black).any(axis=2).mean() > 0.5
 
 

@@ -15,7 +15,7 @@ A golden image is produced by the code under test, so it only proves that nothin
 Each test therefore also checks facts about its image that do not come from the renderer:
 which pixels see an object, from a ray-sphere or ray-triangle intersection written here with
 the camera set up from the documented conventions (docs/scene-format.md), exact zeros where a
-pixel sees only the seed's black background, colours that follow from the materials, and so on.
+pixel sees only the coursework's black background, colours that follow from the materials, and so on.
 """
 
 import dataclasses
@@ -146,10 +146,10 @@ def test_listing_3_2_sphere_and_bubble():
     db = sphere_miss_distance(origin, d, bubble.center, bubble.radius)
     outside = (ds > 1.02) & (db > 1.02)
     assert outside.sum() > 900
-    assert (image[outside] == 0).all()  # the seed's black environment, exactly
+    assert (image[outside] == 0).all()  # the coursework's black environment, exactly
     for corner in (image[0, 0], image[0, -1], image[-1, 0], image[-1, -1]):
         assert corner.tolist() == [0.0, 0.0, 0.0]
-    # the seed's screen: x to the right, y downwards, 960 units across at z = 0, viewer at
+    # the coursework's screen: x to the right, y downwards, 960 units across at z = 0, viewer at
     # z = 2000; the sphere's centre (300, 400, 150) projects to (285.4, 393.5): column 9, row 13
     x, y = (np.array([300.0, 400.0]) - 480) * 2000 / (2000 - 150) + 480
     centre = (int(y / 960 * SIZE), int(x / 960 * SIZE))

@@ -19,9 +19,12 @@ def test_importing_bubbleoptics_and_loading_a_scene_do_not_import_colour_science
     """A render's start-up: colour-science, scipy, matplotlib and trimesh stay out.
 
     A fresh process, so that nothing an earlier test imported counts.  numba itself imports the
-    bare ``scipy`` package (to check its version), so what counts is what comes after numba.
+    bare ``scipy`` package (to check its version) and, when its CPU target first loads its
+    implementations (the first call of any compiled function), ``scipy.linalg`` (a BLAS check
+    in numba.np.arraymath); so what counts is what comes after numba has compiled one function.
     """
     code = ("import sys, numba\n"
+            "numba.njit(lambda x: x + 1)(1)\n"
             "before = set(sys.modules)\n"
             "import bubbleoptics as bo, tracer\n"
             "bo.band_spectral_weights(16); bo.rgb_reflectance_basis(16)\n"

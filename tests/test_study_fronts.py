@@ -71,11 +71,12 @@ def test_time_at_error_power_law():
 # ------------------------------------------------------------------ the defaults' verdict
 
 
-def _row(scene, factor, value, seconds, error, *, spp=1, threshold=1e-3, default=False, runs=None):
+def _row(scene, factor, value, seconds, error, *, spp=1, threshold=1e-3, default=False, runs=None, method="auto"):
     return dict(scene=scene, factor=factor, value=value, transport="spectral", spectral_samples=16.0,
-                spectral_method="auto", threshold=threshold, spp=float(spp), depth=10.0, width=8.0, height=8.0,
-                seconds=seconds, seconds_runs=runs or f"{seconds}", mean_de00=error, interior_mean_de00=error,
-                interior_p95_de00=error, speedup_vs_reference=100.0 / seconds, is_default=float(default))
+                spectral_method=method, threshold=threshold, spp=float(spp), depth=10.0, width=8.0, height=8.0,
+                seconds=seconds, seconds_runs=runs or f"{seconds}", mean_de00=error, p95_de00=error, rmse=error,
+                interior_mean_de00=error, interior_p95_de00=error, speedup_vs_reference=100.0 / seconds,
+                is_default=float(default))
 
 
 def _study(default_seconds, default_error, other_seconds, other_error, runs=None):
@@ -103,6 +104,22 @@ def test_assess_dominated_defaults_fail_and_get_advice():
     assert any("dominated" in p for p in result["problems"])
     assert result["proposal"][4] == 4  # spp 4
     assert "spp: 1 -> 4" in tradeoffs.change_advice(result)
+
+
+@pytest.mark.analytic
+def test_assess_the_same_render_timed_twice_never_dominates():
+    """A row whose image is the defaults' own (every error equal: e.g. "point" where "auto"
+    chooses point) is the same render timed twice, however much faster it was measured."""
+    rows = _study(4.0, 0.2, 8.0, 0.1)
+    for scene in ("a", "b"):
+        rows.append(_row(scene, "spectral", "16", 1.0, 0.2, method="point"))
+    result = tradeoffs.assess(rows, DEFAULTS, tol=0.1)
+    assert result["default_ok"], result["problems"]
+    # a faster row with a different image (even slightly) still dominates
+    for r in rows:
+        if r["spectral_method"] == "point":
+            r["mean_de00"] = 0.19
+    assert not tradeoffs.assess(rows, DEFAULTS, tol=0.1)["default_ok"]
 
 
 @pytest.mark.analytic

@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .geometry import STACK_SIZE, intersect_bvh, new_stack
+from .geometry import STACK_SIZE, intersect_bvh
 
 __all__ = [
     "BVH",
@@ -39,7 +39,6 @@ __all__ = [
     "STACK_SIZE",
     "build_bvh",
     "degenerate_triangles",
-    "new_stack",
     "intersect_bvh",
 ]
 

@@ -1,4 +1,4 @@
-"""Command line: ``tracer image``, ``tracer research`` (the seed's -image and -research modes).
+"""Command line: ``tracer image``, ``tracer research`` (the coursework's -image and -research modes).
 
 Bad input (a malformed scene, an unwritable output, a bad option) prints one line on stderr,
 ``FILE:LINE: what is wrong`` for scene errors, and exits with status 2; no traceback, and no
@@ -66,7 +66,7 @@ def _add_render_options(p):
     p.add_argument("--height", type=_positive_int, help="image height in pixels")
     p.add_argument("--spp", type=_positive_int, help="samples per pixel (stratified)")
     p.add_argument("--threshold", type=_threshold,
-                   help="prune child rays whose throughput is at most this (0: the seed's exhaustive tree)")
+                   help="prune child rays whose throughput is at most this (0: the coursework's exhaustive tree)")
     p.add_argument("--spectral-samples", type=_positive_int,
                    help="wavelength bands for spectral transport (scenes with bubbles)")
     p.add_argument("--spectral-method", choices=("auto", "point", "band"),

@@ -29,26 +29,17 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "dot",
-    "cross",
-    "sub",
-    "add",
-    "scale",
-    "norm",
     "normalize",
     "intersect_sphere",
     "sphere_hit_point",
     "ray_shear",
     "intersect_triangle_sheared",
-    "intersect_triangle",
     "STACK_SIZE",
-    "new_stack",
     "intersect_bvh",
     "ORIGIN_EPS_RELATIVE",
     "ORIGIN_EPS_ULPS",
     "origin_epsilon",
     "offset_origin",
-    "bounding_sphere",
 ]
 
 _JIT = dict(cache=True, error_model="numpy")
@@ -61,51 +52,8 @@ _SQ_LARGE = 1e290
 
 
 # --------------------------------------------------------------------------------------------
-# Vector helpers (tuples in, tuples out)
+# Vectors
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT)
-def dot(a, b):
-    """:math:`a\\cdot b`."""
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@njit(**_JIT)
-def cross(a, b):
-    """:math:`a\\times b`."""
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-@njit(**_JIT)
-def sub(a, b):
-    """:math:`a-b`."""
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-@njit(**_JIT)
-def add(a, b):
-    """:math:`a+b`."""
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-@njit(**_JIT)
-def scale(a, s):
-    """:math:`s\\,a` (vector times scalar)."""
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-@njit(**_JIT)
-def norm(a):
-    """Euclidean length :math:`|a|`, without overflow or underflow (rescaled out of range)."""
-    s = a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
-    if s > _SQ_SMALL and s < _SQ_LARGE:
-        return math.sqrt(s)
-    m = max(abs(a[0]), abs(a[1]), abs(a[2]))
-    if m == 0.0 or m == _INF or m != m:
-        return m
-    x, y, z = a[0] / m, a[1] / m, a[2] / m
-    return m * math.sqrt(x * x + y * y + z * z)
-
-
 @njit(**_JIT)
 def normalize(a):
     """:math:`a/|a|`; the zero vector (and a non-finite one) maps to ``(0, 0, 0)``, never NaN."""
@@ -242,9 +190,42 @@ def ray_shear(d):
 
 @njit(**_JIT)
 def intersect_triangle_sheared(o, kx, ky, kz, sx, sy, sz, v0, v1, v2, tmin, tmax):
-    """The watertight test with the ray set-up of :func:`ray_shear` done once per ray.
+    """Watertight ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013); both faces hit.
 
-    Same result as :func:`intersect_triangle`, bit for bit; the BVH traversal uses this form.
+    The ray is ``o + t d`` with its set-up ``(kx, ky, kz, sx, sy, sz) = ray_shear(d)`` done
+    once per ray (the BVH traversal tests many triangles with it).
+
+    Returns ``(t, u, v)`` with the hit point :math:`(1-u-v)v_0 + u v_1 + v v_2` (Möller and
+    Trumbore's barycentric convention), or ``(inf, 0, 0)``.
+
+    The axes are permuted so that :math:`d_z` is the largest direction component and the
+    vertices, taken relative to *o*, are sheared so that the ray becomes the +z axis:
+    :math:`A_x = A_{kx} - s_x A_{kz}`, :math:`A_y = A_{ky} - s_y A_{kz}` (same for *B*, *C*).
+    The 2D edge functions
+
+    .. math::  U = C_xB_y - C_yB_x,\\quad V = A_xC_y - A_yC_x,\\quad W = B_xA_y - B_yA_x
+
+    are the scaled barycentrics of the origin; the ray hits iff they are all :math:`\\ge 0` or
+    all :math:`\\le 0` with :math:`\\det = U+V+W \\ne 0`, and
+    :math:`t = (U s_z A_{kz} + V s_z B_{kz} + W s_z C_{kz})/\\det`.
+
+    Why watertight: a vertex's sheared coordinates depend only on the vertex and the ray, so an
+    edge shared by two triangles gets edge functions computed from identical operands in
+    opposite order, i.e. exactly opposite values; and rounding is monotone, so the computed
+    :math:`\\operatorname{fl}(\\operatorname{fl}(ab) - \\operatorname{fl}(cd))` has the sign of
+    :math:`ab - cd` or is zero.  A ray truly inside a triangle (of the rounded, sheared
+    vertices) therefore always passes the sign test: no ray slips between two triangles.
+
+    The paper computes in single precision and recomputes *U*, *V*, *W* in double when one
+    is exactly zero, to get its exact sign.  That fallback is not needed here: we already work
+    in float64, and a spuriously zero edge function counts as "on the edge", which can only
+    add a hit within rounding distance of an edge (two triangles may both report it), never
+    lose one.  The integrator takes the nearest hit, so a double report is harmless.
+
+    Zero-area triangles: repeated vertices give :math:`\\det = 0` exactly (no hit), but
+    collinear vertices whose sheared coordinates are rounded may be reported hit on the segment
+    (finite *t*, *u*, *v*; never NaN).  :func:`tracer.bvh.build_bvh` collapses such triangles
+    (:func:`tracer.bvh.degenerate_triangles`), so :func:`intersect_bvh` never returns them.
     """
     if sz == 0.0:
         return _INF, 0.0, 0.0
@@ -287,46 +268,6 @@ def intersect_triangle_sheared(o, kx, ky, kz, sx, sy, sz, v0, v1, v2, tmin, tmax
     return t, V * inv, W * inv
 
 
-@njit(**_JIT)
-def intersect_triangle(o, d, v0, v1, v2, tmin, tmax):
-    """Watertight ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013); both faces hit.
-
-    Returns ``(t, u, v)`` with the hit point :math:`(1-u-v)v_0 + u v_1 + v v_2` (Möller and
-    Trumbore's barycentric convention), or ``(inf, 0, 0)``.
-
-    The axes are permuted so that :math:`d_z` is the largest direction component and the
-    vertices, taken relative to *o*, are sheared so that the ray becomes the +z axis:
-    :math:`A_x = A_{kx} - s_x A_{kz}`, :math:`A_y = A_{ky} - s_y A_{kz}` (same for *B*, *C*).
-    The 2D edge functions
-
-    .. math::  U = C_xB_y - C_yB_x,\\quad V = A_xC_y - A_yC_x,\\quad W = B_xA_y - B_yA_x
-
-    are the scaled barycentrics of the origin; the ray hits iff they are all :math:`\\ge 0` or
-    all :math:`\\le 0` with :math:`\\det = U+V+W \\ne 0`, and
-    :math:`t = (U s_z A_{kz} + V s_z B_{kz} + W s_z C_{kz})/\\det`.
-
-    Why watertight: a vertex's sheared coordinates depend only on the vertex and the ray, so an
-    edge shared by two triangles gets edge functions computed from identical operands in
-    opposite order, i.e. exactly opposite values; and rounding is monotone, so the computed
-    :math:`\\operatorname{fl}(\\operatorname{fl}(ab) - \\operatorname{fl}(cd))` has the sign of
-    :math:`ab - cd` or is zero.  A ray truly inside a triangle (of the rounded, sheared
-    vertices) therefore always passes the sign test: no ray slips between two triangles.
-
-    The paper computes in single precision and recomputes *U*, *V*, *W* in double when one
-    is exactly zero, to get its exact sign.  That fallback is not needed here: we already work
-    in float64, and a spuriously zero edge function counts as "on the edge", which can only
-    add a hit within rounding distance of an edge (two triangles may both report it), never
-    lose one.  The integrator takes the nearest hit, so a double report is harmless.
-
-    Zero-area triangles: repeated vertices give :math:`\\det = 0` exactly (no hit), but
-    collinear vertices whose sheared coordinates are rounded may be reported hit on the segment
-    (finite *t*, *u*, *v*; never NaN).  :func:`tracer.bvh.build_bvh` collapses such triangles
-    (:func:`tracer.bvh.degenerate_triangles`), so :func:`intersect_bvh` never returns them.
-    """
-    kx, ky, kz, sx, sy, sz = ray_shear(d)
-    return intersect_triangle_sheared(o, kx, ky, kz, sx, sy, sz, v0, v1, v2, tmin, tmax)
-
-
 # --------------------------------------------------------------------------------------------
 # BVH traversal (the builder is tracer.bvh.build_bvh)
 # --------------------------------------------------------------------------------------------
@@ -336,11 +277,6 @@ STACK_SIZE = 64
 _U = 2.0**-53  # unit roundoff
 _GAMMA3 = 3 * _U / (1 - 3 * _U)
 _WIDEN = 2.0 * _GAMMA3  # Ize 2013 / pbrt: far slab distances times 1 + 2 gamma_3
-
-
-def new_stack():
-    """A traversal stack for :func:`intersect_bvh` (allocate one per thread, reuse per ray)."""
-    return np.empty(STACK_SIZE, dtype=np.int64)
 
 
 @njit(**_JIT)
@@ -380,9 +316,9 @@ def intersect_bvh(o, d, tmin, tmax, bounds, child, first, count, tris, stack):
     """Nearest triangle hit of the ray :math:`o + t d`, :math:`t_{min} < t < t_{max}`.
 
     Returns ``(t, i, u, v)``: *i* indexes ``tris`` (the BVH's reordered copy; the input
-    triangle is ``order[i]``), ``(u, v)`` as in :func:`tracer.geometry.intersect_triangle`;
+    triangle is ``order[i]``), ``(u, v)`` as in :func:`intersect_triangle_sheared`;
     no hit is ``(inf, -1, 0, 0)``.  ``stack`` is an int64 scratch array of at least
-    :data:`STACK_SIZE` entries (:func:`new_stack`).  Among hits at exactly equal *t* the one
+    :data:`STACK_SIZE` entries (``np.empty(STACK_SIZE, np.int64)``, one per thread).  Among hits at exactly equal *t* the one
     found first wins.
 
     Depth first: at an interior node both children's boxes are tested, the nearer one is
@@ -502,26 +438,3 @@ def offset_origin(p, n, eps):
     :func:`origin_epsilon`.  *n* should be unit length.
     """
     return (p[0] + eps * n[0], p[1] + eps * n[1], p[2] + eps * n[2])
-
-
-# --------------------------------------------------------------------------------------------
-# Bounding spheres (scene set-up, NumPy)
-# --------------------------------------------------------------------------------------------
-def bounding_sphere(vertices):
-    """Sphere around a point set: centre of its bounding box, radius to the farthest vertex.
-
-    Returns ``(center, radius)`` with *center* a tuple of floats, as the seed did, for early
-    rejection of rays that miss a mesh.  The radius is padded by
-    :math:`4\\varepsilon r + 64\\varepsilon\\max|c|` so that rounding in the centre and in
-    :func:`intersect_sphere` can never reject a ray that touches a vertex.  No vertices gives
-    ``((0, 0, 0), 0.0)``, a sphere that nothing hits.
-    """
-    v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
-    if v.shape[0] == 0:
-        return (0.0, 0.0, 0.0), 0.0
-    if not np.all(np.isfinite(v)):
-        raise ValueError("bounding_sphere: vertices must be finite")
-    c = 0.5 * (v.min(axis=0) + v.max(axis=0))
-    r = float(np.sqrt(((v - c) ** 2).sum(axis=1)).max())
-    r = r * (1.0 + 4.0 * _EPS) + ORIGIN_EPS_ULPS * _EPS * float(np.abs(c).max())
-    return (float(c[0]), float(c[1]), float(c[2])), r

@@ -74,7 +74,7 @@ def _perpendicular(up):
 
 
 def _convex_outward(vertices, faces, normals):
-    """Orient face normals away from the centroid when the mesh is convex (the seed's rule);
+    """Orient face normals away from the centroid when the mesh is convex (the coursework's rule);
     otherwise keep the file's winding."""
     centroid = vertices.mean(axis=0)
     centres = vertices[faces].mean(axis=1)

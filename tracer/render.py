@@ -21,7 +21,7 @@ __all__ = ["render", "render_with_stats", "RenderStats", "save_image", "DEFAULTS
 #: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
 #: mid-tones, so pruned branches cannot change a displayed pixel by more than about one step
-#: per pruned branch); 0 traces the seed's exhaustive tree.  ``spectral_samples``: 16 bands.
+#: per pruned branch); 0 traces the coursework's exhaustive tree.  ``spectral_samples``: 16 bands.
 #: Both are revisited by the run-time-against-error study (notebooks/04).  ``spectral_method``:
 #: ``"auto"`` evaluates films at the band centres unless a film is thick enough to alias there,
 #: then averages them over each band (:func:`tracer.pack.resolve_spectral_method`).
@@ -144,7 +144,7 @@ def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=
 
     Parameters
     ----------
-    depth : maximum ray generation (1 = camera rays only), as the seed's "trace depth".
+    depth : maximum ray generation (1 = camera rays only), as the coursework's "trace depth".
     spp : samples per pixel (stratified jitter; the pixel centre when 1).
     threshold : pruning threshold on a child ray's throughput (0 = exhaustive tree).
     spectral_samples : wavelength bands for spectral transport (used when the scene has bubbles,

@@ -394,12 +394,18 @@ def dominators(rows, scene, k, metric="interior_mean_de00", tol=0.0):
     A row dominates when its error is no larger and its time is smaller by more than the
     noise: ``seconds <= seconds_k / (1 + tol)`` (errors are deterministic, times are not).
     With *tol* = 0 this is ordinary Pareto dominance (ties in both count as no dominance).
+    A row whose image has exactly *k*'s errors (every metric equal: the same render, e.g. a
+    film method ``"auto"`` resolves to) is the same point timed twice and never dominates it.
     Empty: *k* is on the front within the timing noise.
     """
     pts = scene_points(rows, scene)
     me = next(r for r in pts if row_key(r) == k)
     t, e = me["seconds"] / (1.0 + tol), me[metric]
-    return [r for r in pts if row_key(r) != k and r["seconds"] <= t and r[metric] <= e
+
+    def same_render(r):
+        return all(r[m] == me[m] for m in ("mean_de00", "p95_de00", "rmse", metric))
+
+    return [r for r in pts if row_key(r) != k and not same_render(r) and r["seconds"] <= t and r[metric] <= e
             and (r["seconds"] < t or r[metric] < e)]
 
 
