@@ -270,7 +270,7 @@ def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, 
     return sp
 
 
-@njit(**_NO_NRT)
+@njit(inline="always", **_NO_NRT)
 def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
     """Radiance per channel into ``ws.L`` of the camera ray (o0, d0), whose nearest hit *hit0*
     (from :func:`closest_hit`) is already known and is not a miss.
