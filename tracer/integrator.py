@@ -399,11 +399,21 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
 
 
 @njit(parallel=True, **_JIT)
-def render_rows(scene, rows, width, height, spp, seed, depth, threshold, image, counts):
+def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, threshold, image, counts):
     """Render the rows ``rows`` (int64, distinct, any order) of ``image`` (height, width, 3:
-    linear sRGB) and their ray counts into ``counts`` (height, N_COUNTS).  Rows are
-    independent (each sample's jitter is a hash of seed, pixel and sample), so any split of
-    the rows over calls and threads gives the same image."""
-    for k in prange(rows.shape[0]):
+    linear sRGB) and their ray counts into ``counts`` (height, N_COUNTS).
+
+    The rows are handed out in tasks of *rows_per_task* consecutive entries of *rows*, each
+    with one workspace (allocating one per row cost the threads a contended allocator).  Rows
+    are independent (each sample's jitter is a hash of seed, pixel and sample, and the films'
+    kept set-ups are pure functions of their key), so any split of the rows over calls, tasks
+    and threads gives the same image.
+    """
+    n = rows.shape[0]
+    n_tasks = (n + rows_per_task - 1) // rows_per_task
+    for task in prange(n_tasks):
         ws = new_workspace(scene, depth)
-        render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts)
+        for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
+            for i in range(N_COUNTS):
+                ws.counts[i] = 0
+            render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts)

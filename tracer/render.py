@@ -47,9 +47,9 @@ def _check_int(name, value, minimum):
 
 
 #: Rows per task handed to a thread at a time (numba's dynamic scheduling,
-#: :func:`numba.parallel_chunksize`): small enough to balance an image whose objects sit in
-#: one part of it, large enough that taking a task costs nothing.
-ROWS_PER_TASK = 4
+#: :func:`numba.parallel_chunksize`, one task at a time): small enough to balance an image
+#: whose objects sit in one part of it, large enough that a task's workspace costs nothing.
+ROWS_PER_TASK = 8
 #: A render predicted to take longer than this (s) shows a progress bar and is split into
 #: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
 PROGRESS_AFTER = 0.5
@@ -60,8 +60,8 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
     """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``."""
     import numba
 
-    with numba.parallel_chunksize(ROWS_PER_TASK):
-        render_rows(packed, rows, width, height, spp, seed, depth, threshold, image, counts)
+    with numba.parallel_chunksize(1):
+        render_rows(packed, rows, ROWS_PER_TASK, width, height, spp, seed, depth, threshold, image, counts)
 
 
 def _interleaved(height, n_parts):
