@@ -369,6 +369,8 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
     L = ws.L
     nc = L.shape[0]
     ray_counts = ws.counts
+    for i in range(N_COUNTS):  # here, not in render_rows' parallel loop: numba's parfor pass
+        ray_counts[i] = 0  # hoisted that reset out of the loop over a task's rows
     for x in range(width):
         pix = y * width + x
         r = 0.0
@@ -414,6 +416,4 @@ def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, thr
     for task in prange(n_tasks):
         ws = new_workspace(scene, depth)
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
-            for i in range(N_COUNTS):
-                ws.counts[i] = 0
             render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts)
