@@ -15,6 +15,10 @@ __all__ = ["film_thickness"]
 
 _JIT = dict(cache=True, error_model="numpy")
 
+# cos w and sin w of the swirl waves' warp offsets w = 0, 1, 2, 3 (radians)
+_COS_W = (1.0, math.cos(1.0), math.cos(2.0), math.cos(3.0))
+_SIN_W = (0.0, math.sin(1.0), math.sin(2.0), math.sin(3.0))
+
 
 @njit(**_JIT)
 def film_thickness(f, maps, n):
@@ -24,7 +28,8 @@ def film_thickness(f, maps, n):
     angle from ``up``: with p = 1/2 this is the immobile-interface drainage law
     :math:`h \\propto \\sqrt{z}` for height z below the top (Mysels, Shinoda & Frankel 1959;
     docs/scene-format.md), floored by the top thickness.  Swirl: the thickness is multiplied
-    by 1 + a·s(n)/4, s a sum of four domain-warped plane waves on the sphere, |s| <= 4.
+    by 1 + a·s(n)/4, s a sum of four domain-warped plane waves on the sphere, |s| <= 4:
+    :math:`s = \\sum_w \\sin(k\\,n\\cdot u_w + \\phi_w + 1.5 \\sin(k \\cos\\theta / 2 + w))`.
     Map: bilinear in (θ, φ) over an (Nθ, Nφ) table stored from ``f.map_offset`` in *maps*,
     φ periodic, measured from ``ref`` towards ``up × ref``.  Never negative.
     """
@@ -34,7 +39,8 @@ def film_thickness(f, maps, n):
         d = f.thickness_nm
     elif f.profile == PROFILE_DRAINING:
         z = min(1.0, max(0.0, 0.5 * (1.0 - cos_t)))
-        d = f.top_nm + (f.bottom_nm - f.top_nm) * z**f.exponent
+        zp = math.sqrt(z) if f.exponent == 0.5 else z**f.exponent  # sqrt: the common law, 4x cheaper
+        d = f.top_nm + (f.bottom_nm - f.top_nm) * zp
     else:
         nt = f.map_rows
         nph = f.map_cols
@@ -61,9 +67,14 @@ def film_thickness(f, maps, n):
     if f.swirl != 0.0:
         s = 0.0
         k = f.swirl_scale
+        # the warp sin(a + w), w = 0, 1, 2, ..., by the angle-addition formula from one sin/cos pair
+        a = 0.5 * k * cos_t
+        sa = math.sin(a)
+        ca = math.cos(a)
         for w in range(N_SWIRL_WAVES):
             wave = f.waves[w]
             x = n[0] * wave[0] + n[1] * wave[1] + n[2] * wave[2]
-            s += math.sin(k * x + wave[3] + 1.5 * math.sin(0.5 * k * cos_t + w))
+            warp = sa * _COS_W[w] + ca * _SIN_W[w]
+            s += math.sin(k * x + wave[3] + 1.5 * warp)
         d *= 1.0 + f.swirl * 0.25 * s
     return max(d, 0.0)
