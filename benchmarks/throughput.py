@@ -17,9 +17,12 @@ repeats), beside the seconds and rays per second.  Cases, all 960x960 at one sam
   (``data/scenes/seed_*.txt``), defaults otherwise;
 * ``builtin``: ``tracer.default_scene()`` at the defaults (what ``make demo`` renders).
 
-Every case runs with 1 and with 2 threads (``numba.set_num_threads``).  Finally a fresh
-process is timed twice: ``import tracer``, and ``python -m tracer image OUT.png`` of the
-built-in scene at 960x960 (start to saved file).
+Every case runs with 1 and with 2 threads (``numba.set_num_threads``), and so do the floor
+and a probe of the machine (:func:`simd_probe_kernel`: vectorized arithmetic only), whose
+speed-ups from 1 to 2 threads say what this machine allows.  Finally fresh processes are
+timed: ``import numba``, numba with one kernel loaded from its cache (numba's own start-up:
+its first call initialises its CPU target), ``import tracer``,
+and ``python -m tracer image OUT.png`` of the built-in scene at 960x960 (start to saved file).
 """
 
 import argparse
@@ -87,6 +90,18 @@ def floor_kernel(width, height, centers, radii, background, out):
                 ox, oy, oz = px, py, pz
                 weight *= 0.5
             out[y, x] = value
+
+
+@njit(parallel=True, cache=True)
+def simd_probe_kernel(n, out):
+    """A machine probe: 32 independent multiply-add chains per task (vectorized arithmetic, no
+    memory traffic), to show how this machine's two cores share vector throughput."""
+    for i in prange(out.shape[0]):
+        acc = np.zeros(32)
+        for _ in range(n):
+            for j in range(32):
+                acc[j] = acc[j] * 0.999999 + 1.0
+        out[i] = acc.sum()
 
 
 def cases(tracer):
@@ -169,9 +184,36 @@ def main(argv=None):
             r["speedup_1_to_2_threads"] = (get(r["case"], r["depth"], 1)["seconds_median"]
                                            / get(r["case"], r["depth"], 2)["seconds_median"])
 
+    # the floor and a vector-arithmetic probe on their own, 1 and 2 threads
+    probe_out = np.zeros(64)
+    simd_probe_kernel(10, probe_out)
+    probes = {"floor kernel": lambda: floor_kernel(size, size, centers, radii, 0.5, floor_out),
+              "probe: vector arithmetic": lambda: simd_probe_kernel(20000 if args.quick else 200000, probe_out)}
+    probe_times = {}
+    for rep in range(repeats):
+        for threads in thread_counts:
+            numba.set_num_threads(threads)
+            for name, run in probes.items():
+                t0 = time.perf_counter()
+                run()
+                probe_times.setdefault((name, threads), []).append(time.perf_counter() - t0)
+    numba.set_num_threads(max_threads)
+    for (name, threads), times in probe_times.items():
+        times = np.array(times)
+        row = dict(case=name, depth="", threads=threads, width=size, height=size, repeats=len(times),
+                   seconds_median=float(np.median(times)), seconds_min=float(times.min()),
+                   seconds_max=float(times.max()))
+        if len(thread_counts) == 2:
+            row["speedup_1_to_2_threads"] = (float(np.median(probe_times[(name, 1)]))
+                                             / float(np.median(probe_times[(name, 2)])))
+        rows.append(row)
+
     # fresh processes
     png = Path(tempfile.mkdtemp()) / "builtin.png"
     fresh = {
+        "fresh process: import numba": ["-c", "import numba"],
+        "fresh process: numba and one cached kernel": ["-c", "from bubbleoptics.kernels import srgb_decode; "
+                                                               "srgb_decode(0.5)"],
         "fresh process: import tracer": ["-c", "import tracer"],
         "fresh process: built-in scene to PNG": ["-m", "tracer", "image", str(png), "--quiet", "--width",
                                                  str(size), "--height", str(size)],
@@ -185,7 +227,7 @@ def main(argv=None):
     print(f"\n{size}x{size}, 1 spp; seconds median [min, max] over {repeats}; ratio to the floor kernel "
           "(median [min, max] of the interleaved pairs)")
     for r in rows:
-        line = f"{r['case']:38s} depth {r['depth']:2d} threads {r['threads']}: {r['seconds_median']:.4f} s " \
+        line = f"{r['case']:44s} depth {r['depth']!s:>2s} threads {r['threads']}: {r['seconds_median']:.4f} s " \
                f"[{r['seconds_min']:.4f}, {r['seconds_max']:.4f}]"
         if "ratio_to_floor_median" in r:
             line += (f"  x floor {r['ratio_to_floor_median']:6.1f} [{r['ratio_to_floor_min']:.1f}, "
