@@ -24,7 +24,7 @@ Methods (N bands of equal width over 360-780 nm):
 * ``band_mean``: one value per band, R averaged uniformly in wavelength over the band
   (``film_reflectance_band``), same weights: what a renderer carrying one value per band can use;
 * ``band_mean_phase``: the same averaged uniformly in phase (the atan2 closed form alone,
-  ``kernels.film_band_average``);
+  ``kernels.film_band_average_nb``);
 * ``bandlimited``: ``film_XYZ_bandlimited`` -- CMFs x D65 as continuous piecewise polynomials of
   degree ``order`` in wavenumber, integrated exactly against the film's band moments.
 

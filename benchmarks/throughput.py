@@ -212,8 +212,8 @@ def main(argv=None):
     png = Path(tempfile.mkdtemp()) / "builtin.png"
     fresh = {
         "fresh process: import numba": ["-c", "import numba"],
-        "fresh process: numba and one cached kernel": ["-c", "from bubbleoptics.kernels import srgb_decode; "
-                                                               "srgb_decode(0.5)"],
+        "fresh process: numba and one cached kernel": ["-c", "from bubbleoptics.kernels import srgb_decode_nb; "
+                                                               "srgb_decode_nb(0.5)"],
         "fresh process: import tracer": ["-c", "import tracer"],
         "fresh process: built-in scene to PNG": ["-m", "tracer", "image", str(png), "--quiet", "--width",
                                                  str(size), "--height", str(size)],

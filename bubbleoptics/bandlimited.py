@@ -63,7 +63,7 @@ __all__ = [
     "film_color_bandlimited",
 ]
 
-# Absolute tolerance of the Fourier-Bessel series of the band moments (kernels.film_band_moments):
+# Absolute tolerance of the Fourier-Bessel series of the band moments (kernels.film_band_moments_nb):
 # at rounding level for band means, 1e-10 for colour (XYZ changes by less than 1e-10 x the
 # sum of the weights, far below any visible difference, and the series is ~40 % shorter).
 _TOL_BAND_MEAN = 1e-15
@@ -360,9 +360,9 @@ def film_reflectance_band(
     :math:`(\\Delta\\nu/2\\nu)^{order+1}`: at the default 6 it moves a water film's R by at most
     3e-13 with 16 bands, 2e-9 with 4), and the moments of the film are exact in closed form for
     lossless films
-    (:func:`bubbleoptics.kernels.film_band_moments`).  ``weighting="phase"`` averages uniformly in
+    (:func:`bubbleoptics.kernels.film_band_moments_nb`).  ``weighting="phase"`` averages uniformly in
     phase (wavenumber) instead: just the atan2 closed form
-    (:func:`bubbleoptics.kernels.film_band_average`), the cheapest band average.
+    (:func:`bubbleoptics.kernels.film_band_average_nb`), the cheapest band average.
 
     Approximations: within a band the phase :math:`\\beta = 2\\pi dq_1/\\lambda` is linear in
     wavenumber (exact without dispersion; water at 20 µm: within 0.04 rad over a 26 nm band,
@@ -459,7 +459,7 @@ def film_XYZ_bandlimited(
     .. math::  X_c = \\sum_{k=1}^{N}\\sum_{j=0}^{L} A_{ckj}\\langle P_j R\\rangle_k
 
     with the weights of :func:`band_weight_polynomials` and the film's Legendre moments over
-    each band from :func:`bubbleoptics.kernels.film_band_moments`.  Parameters as
+    each band from :func:`bubbleoptics.kernels.film_band_moments_nb`.  Parameters as
     :func:`film_color_bandlimited`; returns ndarray (..., 3).
 
     >>> from bubbleoptics.bandlimited import film_XYZ_bandlimited

@@ -254,7 +254,7 @@ def linear_srgb_to_srgb(x):
     Elementwise on any array; values outside [0, 1] are not clipped (negative values stay on
     the linear segment), NaN gives NaN.  Equal to the bit to
     ``colour.cctf_encoding(x, function="sRGB")``; written here only so that a render need not
-    import colour-science (start-up time; the formula is :func:`bubbleoptics.kernels.srgb_encode`).
+    import colour-science (start-up time; the formula is :func:`bubbleoptics.kernels.srgb_encode_nb`).
 
     >>> from bubbleoptics.colorimetry import linear_srgb_to_srgb
     >>> round(float(linear_srgb_to_srgb(0.18)), 7)

@@ -3,7 +3,9 @@
 The NumPy API (:mod:`bubbleoptics.film`, :mod:`bubbleoptics.fresnel`, ...) broadcasts over
 these kernels, and the ray tracer (:mod:`tracer`) calls the very same functions per ray and
 wavelength sample.  Nothing here allocates, so they are cheap to call from inside other
-``@njit`` code.
+``@njit`` code.  Scalar kernels end in ``_nb`` (``film_rt_nb`` is this module's, ``film_rt`` the
+NumPy function of :mod:`bubbleoptics.film`); the loops over arrays that the NumPy functions
+call end in ``_array`` or ``_grid``.
 
 Conventions (everywhere in bubbleoptics)
 ----------------------------------------
@@ -73,23 +75,23 @@ __all__ = [
     "POL_P",
     "POL_UNPOLARIZED",
     "N_FILM_COEFFICIENTS",
-    "normal_wavevector",
-    "fresnel_interface",
-    "film_setup",
-    "sin2_cos2",
+    "normal_wavevector_nb",
+    "fresnel_interface_nb",
+    "film_setup_nb",
+    "sin2_cos2_nb",
     "BETA_POLY_MAX",
-    "film_evaluate",
-    "film_rt",
-    "free_film_setup",
-    "free_film_evaluate",
-    "free_film_band_average",
-    "free_film_setup_bands",
-    "free_film_evaluate_bands",
-    "two_beam_r",
-    "multilayer_rt",
-    "water_index_daimon2007",
-    "srgb_encode",
-    "srgb_decode",
+    "film_evaluate_nb",
+    "film_rt_nb",
+    "free_film_setup_nb",
+    "free_film_evaluate_nb",
+    "free_film_band_average_nb",
+    "free_film_setup_bands_nb",
+    "free_film_evaluate_bands_nb",
+    "two_beam_r_nb",
+    "multilayer_rt_nb",
+    "water_index_daimon2007_nb",
+    "srgb_encode_nb",
+    "srgb_decode_nb",
 ]
 
 POL_S = 0
@@ -100,7 +102,7 @@ POL_UNPOLARIZED = 2
 #: are treated as cos = 1e-150, where R = 1 - O(1e-150); this keeps every formula finite.
 COS_MIN = 1e-150
 
-#: Length of the coefficient tuple returned by :func:`film_setup`.
+#: Length of the coefficient tuple returned by :func:`film_setup_nb`.
 N_FILM_COEFFICIENTS = 14
 
 # error_model="numpy": a float division never raises (our denominators are positive by
@@ -124,7 +126,7 @@ def _q_squared(n, n0, q0):
 
 
 @njit(**_JIT)
-def normal_wavevector(n, n0, q0):
+def normal_wavevector_nb(n, n0, q0):
     """Normal wavevector component :math:`q = n\\cos\\theta` in a medium of index *n*.
 
     :math:`q^2 = (n-n_0)(n+n_0) + q_0^2` (Snell's law, no cancellation near grazing);
@@ -200,7 +202,7 @@ _PIO2_1 = 1.5707963267341256
 _PIO2_2 = 6.077100506303966e-11
 _PIO2_3 = 2.0222662487959506e-21
 _TWO_OVER_PI = 0.6366197723675814
-#: Largest phase for :func:`sin2_cos2` (k < 2**20 quadrants); larger phases use libm.
+#: Largest phase for :func:`sin2_cos2_nb` (k < 2**20 quadrants); larger phases use libm.
 BETA_POLY_MAX = 2.0**20 * 1.5707963267948966
 # Taylor coefficients (-1)^n/(2n+1)!; on |r| <= pi/4 the first omitted term is below 1e-19
 # relative, i.e. well under half an ulp.
@@ -209,7 +211,7 @@ _S11, _S13, _S15, _S17 = -1 / 39916800, 1 / 6227020800, -1 / 1307674368000, 1 / 
 
 
 @njit(**_JIT_INLINE)
-def sin2_cos2(beta):
+def sin2_cos2_nb(beta):
     """(sin²β, cos²β) for 0 <= β <= :data:`BETA_POLY_MAX`, without branches.
 
     Why by hand: numba calls libm's scalar sin and cos (about 20 ns each here) and, since it
@@ -263,7 +265,7 @@ def _phase_terms(kq, g, d):
 # Single interface
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT)
-def fresnel_interface(n1, n2, cos1):
+def fresnel_interface_nb(n1, n2, cos1):
     """Fresnel amplitude coefficients of one interface (Born & Wolf §1.5.2; tmm conventions).
 
     .. math::
@@ -283,7 +285,7 @@ def fresnel_interface(n1, n2, cos1):
     c1 = max(cos1, COS_MIN)
     q1 = n1 * c1
     s2 = n1 * n1 * (1.0 - c1) * (1.0 + c1)
-    q2 = normal_wavevector(n2, n1, q1)
+    q2 = normal_wavevector_nb(n2, n1, q1)
     n1c = n1 + 0j
     q1c = q1 + 0j
     rs = _eta_difference(n1c, n2, q1c, q2, s2, POL_S) / (q1c + q2)
@@ -309,7 +311,7 @@ def fresnel_interface(n1, n2, cos1):
 # Single film (the Airy sum), in two stages: setup per (lambda, theta, media), evaluate per d
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT)
-def film_setup(wavelength, cos0, n0, n1, n2):
+def film_setup_nb(wavelength, cos0, n0, n1, n2):
     """Stage 1 of the exact single-film Airy sum: everything that does not depend on *d*.
 
     Parameters
@@ -319,7 +321,7 @@ def film_setup(wavelength, cos0, n0, n1, n2):
     n0 : float, real index of the outside medium.
     n1, n2 : complex, indices :math:`n+ik` of the film and of the inside medium.
 
-    Returns a tuple of :data:`N_FILM_COEFFICIENTS` complex numbers for :func:`film_evaluate`.
+    Returns a tuple of :data:`N_FILM_COEFFICIENTS` complex numbers for :func:`film_evaluate_nb`.
     Entry 13 is 0 for the real-arithmetic path (lossless media, every wave propagating), 1 for
     the complex path, 2 for total reflection (lossless media, evanescent inside medium).  See the module docstring for the formulas.
     """
@@ -362,8 +364,8 @@ def film_setup(wavelength, cos0, n0, n1, n2):
                 complex(4.0 * p0 * p2e, 0.0),
                 0j,
             )
-    q1 = normal_wavevector(n1, n0, q0)
-    q2 = normal_wavevector(n2, n0, q0)
+    q1 = normal_wavevector_nb(n1, n0, q0)
+    q2 = normal_wavevector_nb(n2, n0, q0)
     n0c = n0 + 0j
     q0c = q0 + 0j
     s0, s2e, a_s, b_s, c_s, d_s = _film_terms(n0c, n1, n2, q0c, q1, q2, s2, POL_S)
@@ -390,7 +392,7 @@ def film_setup(wavelength, cos0, n0, n1, n2):
 def _real_rt(cos2, sig2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol):
     """Lossless-path (R, T) from cos²β and σ² = sin²β/q1² (module docstring, real form).
 
-    as_, bs, cs, ds, ts (s) and ap, bp, cp, dp, tp (p) are entries 3-12 of :func:`film_setup`.
+    as_, bs, cs, ds, ts (s) and ap, bp, cp, dp, tp (p) are entries 3-12 of :func:`film_setup_nb`.
     """
     R = 0.0
     T = 0.0
@@ -415,10 +417,10 @@ def _real_rt_c(c, cos2, sig2, pol):
 
 
 @njit(**_JIT)
-def film_evaluate(c, d, pol):
+def film_evaluate_nb(c, d, pol):
     """Stage 2 of the Airy sum: (R, T) of the film of thickness *d* nm for polarization *pol*.
 
-    *c* is the tuple (or a row of an array) from :func:`film_setup`; *pol* is 0 (s), 1 (p) or
+    *c* is the tuple (or a row of an array) from :func:`film_setup_nb`; *pol* is 0 (s), 1 (p) or
     2 (unpolarized: the mean of s and p).  Returns (R, T), both in [0, 1].
     """
     flag = c[13].real
@@ -427,7 +429,7 @@ def film_evaluate(c, d, pol):
     if flag == 0.0:
         beta = c[0].real * d
         if beta <= BETA_POLY_MAX:
-            sn2, cs2 = sin2_cos2(beta)
+            sn2, cs2 = sin2_cos2_nb(beta)
         else:
             sb = math.sin(beta)
             cb = math.cos(beta)
@@ -464,19 +466,19 @@ def film_evaluate(c, d, pol):
 
 
 @njit(**_JIT)
-def film_rt(wavelength, thickness, cos0, n0, n1, n2, pol):
-    """Exact (R, T) of one film: :func:`film_evaluate` of :func:`film_setup`.
+def film_rt_nb(wavelength, thickness, cos0, n0, n1, n2, pol):
+    """Exact (R, T) of one film: :func:`film_evaluate_nb` of :func:`film_setup_nb`.
 
     Units: nm, cosine of the angle of incidence, real *n0*, complex *n1*, *n2*; *pol* 0/1/2.
     """
-    return film_evaluate(film_setup(wavelength, cos0, n0, n1, n2), thickness, pol)
+    return film_evaluate_nb(film_setup_nb(wavelength, cos0, n0, n1, n2), thickness, pol)
 
 
 # --------------------------------------------------------------------------------------------
 # The coursework's two-beam model (coursework eqs. 1.1-1.3)
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT)
-def two_beam_r(wavelength, thickness, cos0, n0, n1, pol):
+def two_beam_r_nb(wavelength, thickness, cos0, n0, n1, pol):
     """The coursework's two-beam reflectance, normalised by the first interface's reflectance.
 
     Seed eqs. (1.1)-(1.3): :math:`\\Delta = 2 d n_1\\cos\\theta_1 - \\lambda/2`,
@@ -491,8 +493,8 @@ def two_beam_r(wavelength, thickness, cos0, n0, n1, pol):
     c0 = max(cos0, COS_MIN)
     q0 = n0 * c0
     n1r = n1.real + 0j
-    q1 = normal_wavevector(n1r, n0, q0)
-    _, _, _, _, Rs, Rp, _, _ = fresnel_interface(n0, n1r, c0)
+    q1 = normal_wavevector_nb(n1r, n0, q0)
+    _, _, _, _, Rs, Rp, _, _ = fresnel_interface_nb(n0, n1r, c0)
     sb = math.sin(_TWO_PI * thickness * q1.real / wavelength)
     if pol == POL_S:
         r01 = Rs
@@ -507,7 +509,7 @@ def two_beam_r(wavelength, thickness, cos0, n0, n1, pol):
 # Multilayer stack: scaled characteristic matrices
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT)
-def multilayer_rt(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
+def multilayer_rt_nb(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
     """(R, T) of a stack of films by characteristic (transfer) matrices.
 
     Each layer's matrix :math:`M_j = [[\\cos\\beta_j, -i\\sin\\beta_j/\\eta_j],
@@ -518,20 +520,20 @@ def multilayer_rt(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
     :math:`T = 4\\eta_0\\operatorname{Re}\\eta_m\\prod_j|e_j| / |\\eta_0B + C|^2`.
 
     *n_layers*, *d_layers*: 1-D arrays (complex, float nm), outermost layer first.
-    For one layer this equals :func:`film_rt` to rounding (tested); the single-film kernel is
+    For one layer this equals :func:`film_rt_nb` to rounding (tested); the single-film kernel is
     preferred there because it also removes the cancellation in the numerator.
     """
     c0 = max(cos0, COS_MIN)
     q0 = n0 * c0
     g = _TWO_PI / wavelength
-    qm = normal_wavevector(n_inside, n0, q0)
+    qm = normal_wavevector_nb(n_inside, n0, q0)
     if n_inside.imag == 0.0 and qm.imag > 0.0:
         lossless = True
         for j in range(n_layers.shape[0]):
             if n_layers[j].imag != 0.0:
                 lossless = False
         if lossless:
-            return 1.0, 0.0  # total reflection, as in film_setup
+            return 1.0, 0.0  # total reflection, as in film_setup_nb
     R = 0.0
     T = 0.0
     for p in range(2):
@@ -548,7 +550,7 @@ def multilayer_rt(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
         attenuation = 1.0
         for j in range(n_layers.shape[0] - 1, -1, -1):
             nj = n_layers[j]
-            qj = normal_wavevector(nj, n0, q0)
+            qj = normal_wavevector_nb(nj, n0, q0)
             one_p_e, u, ex = _phase_terms(g * qj, g, d_layers[j])
             if p == 0:
                 eta = qj
@@ -581,7 +583,7 @@ _DM2007_C = (5.101829712e-3, 1.821153936e-2, 2.620722293e-2, 1.069792721e1)
 
 
 @njit(**_JIT)
-def water_index_daimon2007(wavelength):
+def water_index_daimon2007_nb(wavelength):
     """Refractive index of water at 20 degC, Daimon & Masumura (2007), 182-1129 nm.
 
     .. math::  n^2 - 1 = \\sum_{i=1}^4 \\frac{B_i\\lambda^2}{\\lambda^2 - C_i},
@@ -599,11 +601,11 @@ def water_index_daimon2007(wavelength):
 # --------------------------------------------------------------------------------------------
 @njit(**_JIT_PARALLEL)
 def film_setup_array(wavelength, cos0, n0, n1, n2):
-    """:func:`film_setup` over 1-D arrays of equal length; returns (N, 14) complex."""
+    """:func:`film_setup_nb` over 1-D arrays of equal length; returns (N, 14) complex."""
     n = wavelength.shape[0]
     out = np.empty((n, N_FILM_COEFFICIENTS), dtype=np.complex128)
     for i in prange(n):
-        c = film_setup(wavelength[i], cos0[i], n0[i], n1[i], n2[i])
+        c = film_setup_nb(wavelength[i], cos0[i], n0[i], n1[i], n2[i])
         for j in range(N_FILM_COEFFICIENTS):
             out[i, j] = c[j]
     return out
@@ -616,8 +618,8 @@ _BLOCK = 512
 def _lossless_row(c, d, pol, want_r, want_t, out_r, out_t):
     """Branch-free loop over thicknesses *d* (1-D) for one lossless row *c* of coefficients.
 
-    Same formula as :func:`film_evaluate` (:func:`_real_rt`), with the coefficients hoisted
-    into scalars and :func:`sin2_cos2` in place of libm, so that LLVM vectorizes it.  Only for
+    Same formula as :func:`film_evaluate_nb` (:func:`_real_rt`), with the coefficients hoisted
+    into scalars and :func:`sin2_cos2_nb` in place of libm, so that LLVM vectorizes it.  Only for
     rows with q1 > 0 and every phase below :data:`BETA_POLY_MAX`.
     """
     kq = c[0].real
@@ -627,17 +629,17 @@ def _lossless_row(c, d, pol, want_r, want_t, out_r, out_t):
     n = d.shape[0]
     if want_r and want_t:
         for j in range(n):
-            sn2, cs2 = sin2_cos2(kq * d[j])
+            sn2, cs2 = sin2_cos2_nb(kq * d[j])
             r, t = _real_rt(cs2, sn2 * iq2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol)
             out_r[j] = r
             out_t[j] = t
     elif want_r:
         for j in range(n):
-            sn2, cs2 = sin2_cos2(kq * d[j])
+            sn2, cs2 = sin2_cos2_nb(kq * d[j])
             out_r[j] = _real_rt(cs2, sn2 * iq2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol)[0]
     else:
         for j in range(n):
-            sn2, cs2 = sin2_cos2(kq * d[j])
+            sn2, cs2 = sin2_cos2_nb(kq * d[j])
             out_t[j] = _real_rt(cs2, sn2 * iq2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol)[1]
 
 
@@ -647,7 +649,7 @@ def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
     ``d[i, j]`` (or ``d[0, j]`` when *d* has one row).  Work is split in blocks of the inner
     axis so both cores stay busy whatever the shape.  Lossless rows whose phases stay below
     :data:`BETA_POLY_MAX` take the vectorized :func:`_lossless_row`; every other row goes
-    through :func:`film_evaluate` element by element.
+    through :func:`film_evaluate_nb` element by element.
     """
     n_outer = coef.shape[0]
     n_inner = d.shape[1]
@@ -669,7 +671,7 @@ def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
                           out_t[i, j0:j1] if want_t else out_t[0, 0:0])
         else:
             for j in range(j0, j1):
-                r, t = film_evaluate(row, d[di, j], pol)
+                r, t = film_evaluate_nb(row, d[di, j], pol)
                 if want_r:
                     out_r[i, j] = r
                 if want_t:
@@ -678,21 +680,21 @@ def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
 
 @njit(**_JIT_PARALLEL)
 def two_beam_array(wavelength, thickness, cos0, n0, n1, pol):
-    """:func:`two_beam_r` over 1-D arrays of equal length."""
+    """:func:`two_beam_r_nb` over 1-D arrays of equal length."""
     out = np.empty(wavelength.shape[0])
     for i in prange(wavelength.shape[0]):
-        out[i] = two_beam_r(wavelength[i], thickness[i], cos0[i], n0[i], n1[i], pol)
+        out[i] = two_beam_r_nb(wavelength[i], thickness[i], cos0[i], n0[i], n1[i], pol)
     return out
 
 
 @njit(**_JIT_PARALLEL)
 def fresnel_array(n1, n2, cos1):
-    """:func:`fresnel_interface` over 1-D arrays; returns (4, N) complex and (4, N) float."""
+    """:func:`fresnel_interface_nb` over 1-D arrays; returns (4, N) complex and (4, N) float."""
     n = n1.shape[0]
     amp = np.empty((4, n), dtype=np.complex128)
     power = np.empty((4, n))
     for i in prange(n):
-        rs, rp, ts, tp, Rs, Rp, Ts, Tp = fresnel_interface(n1[i], n2[i], cos1[i])
+        rs, rp, ts, tp, Rs, Rp, Ts, Tp = fresnel_interface_nb(n1[i], n2[i], cos1[i])
         amp[0, i] = rs
         amp[1, i] = rp
         amp[2, i] = ts
@@ -706,12 +708,12 @@ def fresnel_array(n1, n2, cos1):
 
 @njit(**_JIT_PARALLEL)
 def multilayer_array(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
-    """:func:`multilayer_rt` over rows: *n_layers*, *d_layers* are (N, L); returns R, T (N,)."""
+    """:func:`multilayer_rt_nb` over rows: *n_layers*, *d_layers* are (N, L); returns R, T (N,)."""
     n = wavelength.shape[0]
     out_r = np.empty(n)
     out_t = np.empty(n)
     for i in prange(n):
-        r, t = multilayer_rt(wavelength[i], n_layers[i], d_layers[i], cos0[i], n0[i], n_inside[i], pol)
+        r, t = multilayer_rt_nb(wavelength[i], n_layers[i], d_layers[i], cos0[i], n0[i], n_inside[i], pol)
         out_r[i] = r
         out_t[i] = t
     return out_r, out_t
@@ -719,10 +721,10 @@ def multilayer_array(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
 
 @njit(**_JIT_PARALLEL)
 def water_index_array(wavelength):
-    """:func:`water_index_daimon2007` over a 1-D array."""
+    """:func:`water_index_daimon2007_nb` over a 1-D array."""
     out = np.empty(wavelength.shape[0])
     for i in prange(wavelength.shape[0]):
-        out[i] = water_index_daimon2007(wavelength[i])
+        out[i] = water_index_daimon2007_nb(wavelength[i])
     return out
 
 
@@ -739,7 +741,7 @@ SRGB_ENCODED_BELOW = SRGB_LINEAR_BELOW * 12.92  # the same point encoded (0.0404
 
 
 @njit(**_JIT)
-def srgb_encode(x):
+def srgb_encode_nb(x):
     """Linear light *x* to display sRGB: 12.92 x (x <= 0.0031308), else 1.055 x^(1/2.4) - 0.055."""
     if x <= SRGB_LINEAR_BELOW:
         return x * 12.92
@@ -747,7 +749,7 @@ def srgb_encode(x):
 
 
 @njit(**_JIT)
-def srgb_decode(v):
+def srgb_decode_nb(v):
     """Display sRGB *v* to linear light: v / 12.92 (v <= 0.0031308 * 12.92), else ((v + 0.055)/1.055)^2.4."""
     if v <= SRGB_ENCODED_BELOW:
         return v / 12.92
@@ -756,16 +758,16 @@ def srgb_decode(v):
 
 @njit(**_JIT_PARALLEL)
 def srgb_encode_array(x, out):
-    """:func:`srgb_encode` over 1-D arrays (NaN stays NaN)."""
+    """:func:`srgb_encode_nb` over 1-D arrays (NaN stays NaN)."""
     for i in prange(x.shape[0]):
-        out[i] = srgb_encode(x[i]) if x[i] == x[i] else x[i]
+        out[i] = srgb_encode_nb(x[i]) if x[i] == x[i] else x[i]
 
 
 @njit(**_JIT_PARALLEL)
 def srgb_decode_array(v, out):
-    """:func:`srgb_decode` over 1-D arrays (NaN stays NaN)."""
+    """:func:`srgb_decode_nb` over 1-D arrays (NaN stays NaN)."""
     for i in prange(v.shape[0]):
-        out[i] = srgb_decode(v[i]) if v[i] == v[i] else v[i]
+        out[i] = srgb_decode_nb(v[i]) if v[i] == v[i] else v[i]
 
 
 # --------------------------------------------------------------------------------------------
@@ -781,7 +783,7 @@ def srgb_decode_array(v, out):
 # exact without dispersion (beta = 2 pi d q1 nu, nu = 1/lambda); for water at 20 um the
 # curvature of n(nu) nu moves the phase by at most 0.04 rad inside a 26 nm band (16 bands over
 # 360-780 nm) and 0.4 rad inside a 105 nm band (4 bands), at 0-60 deg.  The Fresnel-type
-# coefficients (entries 1 and 3-13 of film_setup, everything but the phase) are taken at the
+# coefficients (entries 1 and 3-13 of film_setup_nb, everything but the phase) are taken at the
 # band centre (exact without dispersion).
 #
 # Lossless film, one polarization (module docstring, real form; sigma = sin(beta)/q1):
@@ -821,13 +823,13 @@ def srgb_decode_array(v, out):
 #
 # Not covered by the closed forms: absorbing films, an evanescent film (q1 imaginary) and
 # q1 -> 0.  There the moments fall back to Gauss-Legendre quadrature of the exact Airy sum
-# (film_evaluate) over the band with the caller's nodes (none: the band-centre point value);
+# (film_evaluate_nb) over the band with the caller's nodes (none: the band-centre point value);
 # quadrature aliases like point sampling once the fringes are finer than its nodes, but an
 # absorbing thick film has lost its fringes anyway.  Total reflection (flag 2): R = 1.
 
 _SERIES_MAX = 100000
 _RESYNC = 32
-#: Highest Legendre order accepted by :func:`film_band_moments` (its Bessel recurrences are
+#: Highest Legendre order accepted by :func:`film_band_moments_nb` (its Bessel recurrences are
 #: checked up to here in the tests).
 BAND_ORDER_MAX = 16
 
@@ -943,7 +945,7 @@ def _band_phase(kq_a, kq_b, d):
 
 
 @njit(**_JIT)
-def film_band_average(c, kq_a, kq_b, d, pol):
+def film_band_average_nb(c, kq_a, kq_b, d, pol):
     """(R̄, T̄): the film averaged uniformly in phase over one wavelength band, closed form.
 
     .. math::
@@ -961,24 +963,24 @@ def film_band_average(c, kq_a, kq_b, d, pol):
 
     Parameters
     ----------
-    c : the :func:`film_setup` tuple (or array row) at the band centre.
+    c : the :func:`film_setup_nb` tuple (or array row) at the band centre.
     kq_a, kq_b : float, phase rates :math:`2\\pi q_1/\\lambda` (1/nm) at the band's short and
-        long edges: ``film_setup(lambda_edge, ...)[0].real``.
+        long edges: ``film_setup_nb(lambda_edge, ...)[0].real``.
     d : float, film thickness in nm.  *pol* : 0 (s), 1 (p), 2 (unpolarized).
 
     The fringes are averaged in phase, i.e. uniformly in wavenumber across the band (uniform
-    in wavelength to within the band's relative width; :func:`film_band_moments` gives the
+    in wavelength to within the band's relative width; :func:`film_band_moments_nb` gives the
     exact uniform-in-wavelength weight).  A band of zero width (kq_a == kq_b) or d = 0 gives
     the point value.  Films outside the closed form (absorbing, evanescent, q1 -> 0) return the
-    band-centre point value :func:`film_evaluate`; use :func:`film_band_moments` with
+    band-centre point value :func:`film_evaluate_nb`; use :func:`film_band_moments_nb` with
     quadrature nodes for those.  Cheap (one atan2 per polarization): meant for the tracer.
 
-    >>> from bubbleoptics.kernels import film_band_average, film_evaluate, film_setup
-    >>> c = film_setup(549.5, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)   # band 540-559 nm, normal incidence
-    >>> kq_a = film_setup(540.0, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)[0].real
-    >>> kq_b = film_setup(559.0, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)[0].real
-    >>> R, T = film_band_average(c, kq_a, kq_b, 20000.0, 2)     # 20 um: 2.4 fringes in the band
-    >>> round(R, 4), round(film_evaluate(c, 20000.0, 2)[0], 4)  # band mean; the centre's value
+    >>> from bubbleoptics.kernels import film_band_average_nb, film_evaluate_nb, film_setup_nb
+    >>> c = film_setup_nb(549.5, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)   # band 540-559 nm, normal incidence
+    >>> kq_a = film_setup_nb(540.0, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)[0].real
+    >>> kq_b = film_setup_nb(559.0, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)[0].real
+    >>> R, T = film_band_average_nb(c, kq_a, kq_b, 20000.0, 2)     # 20 um: 2.4 fringes in the band
+    >>> round(R, 4), round(film_evaluate_nb(c, 20000.0, 2)[0], 4)  # band mean; the centre's value
     (0.0412, 0.0245)
     """
     flag = c[13].real
@@ -986,7 +988,7 @@ def film_band_average(c, kq_a, kq_b, d, pol):
         return 1.0, 0.0
     inv_q1 = c[1].real
     if flag != 0.0 or not inv_q1 > 0.0:
-        return film_evaluate(c, d, pol)
+        return film_evaluate_nb(c, d, pol)
     beta1, two_h, _ = _band_phase(kq_a, kq_b, d)
     if not two_h > 0.0:
         beta = beta1
@@ -1021,14 +1023,14 @@ def film_band_average(c, kq_a, kq_b, d, pol):
 #     s:  F_s = (n1^2 - n0^2)^2 / (4 q0^2 q1^2),
 #     p:  F_p = F_s g^2,   g = (q0^2 (n1^2 + n0^2) - n0^4) / (n0^2 n1^2)
 # (g = 0 at Brewster's angle, tan theta_0 = n1/n0).  Three numbers per (lambda, theta)
-# instead of film_setup's fourteen, and per thickness one sin^2 and two divisions: what the
+# instead of film_setup_nb's fourteen, and per thickness one sin^2 and two divisions: what the
 # tracer evaluates at every bubble hit.  For the band average, T(beta) = 1/(cos^2 + (1 + F)
 # sin^2) is the closed form (1) of the band section with C = 1, D' = 1 + F, t = 1.
 
 
 @njit(**_JIT_INLINE)
 def _free_film_coefficients(wavelength, cos0, n0, n1):
-    """(kq, F_s, F_p, applies) of :func:`free_film_setup`, branch-free (vectorizes in a loop)."""
+    """(kq, F_s, F_p, applies) of :func:`free_film_setup_nb`, branch-free (vectorizes in a loop)."""
     c0 = max(cos0, COS_MIN)
     q0 = n0 * c0
     dn2 = (n1 - n0) * (n1 + n0)  # n1^2 - n0^2 = q1^2 - q0^2
@@ -1044,19 +1046,19 @@ def _free_film_coefficients(wavelength, cos0, n0, n1):
 
 
 @njit(**_JIT)
-def free_film_setup(wavelength, cos0, n0, n1):
+def free_film_setup_nb(wavelength, cos0, n0, n1):
     """Set-up of a free-standing lossless film: ``(kq, F_s, F_p)``, or ``(-1, 0, 0)``.
 
     Parameters: *wavelength* λ (nm), *cos0* = cos θ0 of incidence, *n0* the real index on
     both sides, *n1* the film's real index.  ``kq`` = 2π q1/λ (1/nm), the phase rate
     (β = kq d); F_s, F_p the coefficients of finesse (section comment above).  kq = -1 when
     the case does not apply (q1² <= 0: the film is at or beyond its critical angle, possible
-    only for n1 < n0); use :func:`film_setup` then.
+    only for n1 < n0); use :func:`film_setup_nb` then.
 
-    >>> from bubbleoptics.kernels import free_film_setup, free_film_evaluate, film_rt
-    >>> c = free_film_setup(550.0, 0.8, 1.0, 1.33)
-    >>> R, T = free_film_evaluate(c, 300.0, 2)
-    >>> R0, T0 = film_rt(550.0, 300.0, 0.8, 1.0, 1.33 + 0j, 1.0 + 0j, 2)
+    >>> from bubbleoptics.kernels import free_film_setup_nb, free_film_evaluate_nb, film_rt_nb
+    >>> c = free_film_setup_nb(550.0, 0.8, 1.0, 1.33)
+    >>> R, T = free_film_evaluate_nb(c, 300.0, 2)
+    >>> R0, T0 = film_rt_nb(550.0, 300.0, 0.8, 1.0, 1.33 + 0j, 1.0 + 0j, 2)
     >>> abs(R - R0) < 1e-15, abs(T - T0) < 1e-15
     (True, True)
     """
@@ -1086,13 +1088,13 @@ def _free_film_from_sin2(Fs, Fp, sn2, pol):
 
 
 @njit(**_JIT)
-def free_film_evaluate(c, d, pol):
+def free_film_evaluate_nb(c, d, pol):
     """(R, T) of the free-standing lossless film of thickness *d* nm, *c* from
-    :func:`free_film_setup` (which must apply: kq >= 0); *pol* 0 (s), 1 (p), 2 (unpolarized).
-    Equal to :func:`film_evaluate` of :func:`film_setup` with ``n2 = n0`` to rounding."""
+    :func:`free_film_setup_nb` (which must apply: kq >= 0); *pol* 0 (s), 1 (p), 2 (unpolarized).
+    Equal to :func:`film_evaluate_nb` of :func:`film_setup_nb` with ``n2 = n0`` to rounding."""
     beta = c[0] * d
     if beta <= BETA_POLY_MAX:
-        sn2, _ = sin2_cos2(beta)
+        sn2, _ = sin2_cos2_nb(beta)
     else:
         sb = math.sin(beta)
         sn2 = sb * sb
@@ -1100,8 +1102,8 @@ def free_film_evaluate(c, d, pol):
 
 
 @njit(**_JIT)
-def free_film_setup_bands(wavelength, n1, cos0, n0, kq, Fs, Fp):
-    """:func:`free_film_setup` for every band at once: *wavelength* and *n1* (C,) in, *kq*,
+def free_film_setup_bands_nb(wavelength, n1, cos0, n0, kq, Fs, Fp):
+    """:func:`free_film_setup_nb` for every band at once: *wavelength* and *n1* (C,) in, *kq*,
     *Fs*, *Fp* (C,) out; returns False if the closed form does not apply to some band.  A
     branch-free loop, which LLVM vectorizes (the tracer calls it at every new angle)."""
     misses = 0
@@ -1115,9 +1117,9 @@ def free_film_setup_bands(wavelength, n1, cos0, n0, kq, Fs, Fp):
 
 
 @njit(**_JIT)
-def free_film_evaluate_bands(kq, Fs, Fp, d, pol, R, T):
-    """:func:`free_film_evaluate` for every band at once (coefficients from
-    :func:`free_film_setup_bands`), into *R*, *T* (C,).  Vectorizes when every phase is within
+def free_film_evaluate_bands_nb(kq, Fs, Fp, d, pol, R, T):
+    """:func:`free_film_evaluate_nb` for every band at once (coefficients from
+    :func:`free_film_setup_bands_nb`), into *R*, *T* (C,).  Vectorizes when every phase is within
     :data:`BETA_POLY_MAX` (films thinner than about 8 cm), else falls back band by band."""
     n = kq.shape[0]
     kq_max = 0.0
@@ -1125,26 +1127,26 @@ def free_film_evaluate_bands(kq, Fs, Fp, d, pol, R, T):
         kq_max = max(kq_max, kq[c])
     if kq_max * d <= BETA_POLY_MAX:
         for c in range(n):
-            sn2, _ = sin2_cos2(kq[c] * d)
+            sn2, _ = sin2_cos2_nb(kq[c] * d)
             r, t = _free_film_from_sin2(Fs[c], Fp[c], sn2, pol)
             R[c] = r
             T[c] = t
     else:
         for c in range(n):
-            r, t = free_film_evaluate((kq[c], Fs[c], Fp[c]), d, pol)
+            r, t = free_film_evaluate_nb((kq[c], Fs[c], Fp[c]), d, pol)
             R[c] = r
             T[c] = t
 
 
 @njit(**_JIT)
-def free_film_band_average(c, kq_a, kq_b, d, pol):
+def free_film_band_average_nb(c, kq_a, kq_b, d, pol):
     """(R̄, T̄) of the free-standing lossless film averaged uniformly in phase over a band:
-    :func:`film_band_average` for this case (closed form (1) with C = 1, D' = 1 + F, t = 1).
-    *c* from :func:`free_film_setup` at the band centre, *kq_a*, *kq_b* its phase rate at the
+    :func:`film_band_average_nb` for this case (closed form (1) with C = 1, D' = 1 + F, t = 1).
+    *c* from :func:`free_film_setup_nb` at the band centre, *kq_a*, *kq_b* its phase rate at the
     band's short and long edges."""
     beta1, two_h, _ = _band_phase(kq_a, kq_b, d)
     if not two_h > 0.0:
-        return free_film_evaluate((kq_b, c[1], c[2]), d, pol)
+        return free_film_evaluate_nb((kq_b, c[1], c[2]), d, pol)
     m_pi, _, s_delta, c_delta, _, c_sigma = _band_trig(beta1, two_h)
     T = 0.0
     if pol != POL_P:
@@ -1158,7 +1160,7 @@ def free_film_band_average(c, kq_a, kq_b, d, pol):
 
 
 @njit(**_JIT)
-def film_band_moments(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, out_t):
+def film_band_moments_nb(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, out_t):
     """Legendre moments :math:`\\langle P_j R\\rangle, \\langle P_j T\\rangle`, j = 0..order, of the film over a band.
 
     :math:`\\langle P_j f\\rangle = \\tfrac12\\int_{-1}^{1} P_j(u) f(\\beta_m + h u)\\,du`, u the
@@ -1167,7 +1169,7 @@ def film_band_moments(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, 
     :math:`\\tfrac12\\int w f\\,du = \\sum_j w_j \\langle P_j f\\rangle`.
 
     Lossless films: :math:`\\langle P_0 T\\rangle` from the closed form of
-    :func:`film_band_average`, and for j >= 1
+    :func:`film_band_average_nb`, and for j >= 1
 
     .. math::  \\langle P_j T\\rangle = 2T_{\\rm inc}\\sum_{n\\ge1}\\rho^n
                \\operatorname{Re}\\!\\big(i^j e^{2in\\beta_m}\\big)\\,j_j(2nh),\\qquad
@@ -1176,21 +1178,21 @@ def film_band_moments(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, 
     (Poisson-kernel Fourier series of the Airy function, Gradshteyn & Ryzhik 1.447.3, and
     the Legendre transform of a plane wave, DLMF 10.54.2; derivation above this section),
     summed until the omitted terms are below *tol*.  Other films (absorbing, evanescent or
-    q1 -> 0): Gauss-Legendre quadrature of :func:`film_evaluate` at the nodes *quad_x*,
+    q1 -> 0): Gauss-Legendre quadrature of :func:`film_evaluate_nb` at the nodes *quad_x*,
     weights *quad_w* (on [-1, 1]; empty arrays: the band-centre point value), the phase
     moved across the band by scaling the thickness, the coefficients kept at the centre.
 
-    Parameters: *c*, *kq_a*, *kq_b*, *d*, *pol* as :func:`film_band_average`; *order*
+    Parameters: *c*, *kq_a*, *kq_b*, *d*, *pol* as :func:`film_band_average_nb`; *order*
     0..:data:`BAND_ORDER_MAX`; *tol*, the absolute error allowed in each moment j >= 1 (the
     series' remainder bound; 0 sums until the terms underflow); *out_r*, *out_t* float arrays
     of length >= order + 1, filled.
 
     >>> import numpy as np
-    >>> from bubbleoptics.kernels import film_band_moments, film_setup
-    >>> c = film_setup(549.5, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)
-    >>> kq_a, kq_b = (film_setup(x, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)[0].real for x in (540.0, 559.0))
+    >>> from bubbleoptics.kernels import film_band_moments_nb, film_setup_nb
+    >>> c = film_setup_nb(549.5, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)
+    >>> kq_a, kq_b = (film_setup_nb(x, 1.0, 1.0, 1.33 + 0j, 1.0 + 0j)[0].real for x in (540.0, 559.0))
     >>> mr, mt, none = np.empty(3), np.empty(3), np.empty(0)
-    >>> film_band_moments(c, kq_a, kq_b, 300.0, 2, 2, 1e-15, none, none, mr, mt)
+    >>> film_band_moments_nb(c, kq_a, kq_b, 300.0, 2, 2, 1e-15, none, none, mr, mt)
     >>> [round(float(v), 6) for v in mr]  # <R>, <P_1 R>, <P_2 R>: R rises towards the blue edge
     [0.075405, 0.000549, -5.7e-05]
     """
@@ -1206,7 +1208,7 @@ def film_band_moments(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, 
         kq0 = c[0].real
         nq = quad_x.shape[0]
         if nq == 0 or not kq0 > 0.0:
-            r, t = film_evaluate(c, d, pol)
+            r, t = film_evaluate_nb(c, d, pol)
             out_r[0] = r
             out_t[0] = t
             return
@@ -1214,7 +1216,7 @@ def film_band_moments(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, 
         kq_h = 0.5 * (kq_a - kq_b)
         for g in range(nq):
             u = quad_x[g]
-            r, t = film_evaluate(c, d * (kq_m + kq_h * u) / kq0, pol)
+            r, t = film_evaluate_nb(c, d * (kq_m + kq_h * u) / kq0, pol)
             wr = 0.5 * quad_w[g] * r
             wt = 0.5 * quad_w[g] * t
             p_prev = 1.0
@@ -1247,7 +1249,7 @@ def film_band_moments(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, 
         out_t[0] += half * c[7].real * _band_inverse_average(cs_, ds_, two_h, m_pi, s_delta, c_delta, c_sigma)
     if pol != POL_S:
         out_t[0] += half * c[12].real * _band_inverse_average(cp_, dp_, two_h, m_pi, s_delta, c_delta, c_sigma)
-    out_t[0] = min(out_t[0], 1.0)  # rounding only, as in film_band_average
+    out_t[0] = min(out_t[0], 1.0)  # rounding only, as in film_band_average_nb
     out_r[0] = 1.0 - out_t[0]
     if order == 0:
         return
@@ -1327,7 +1329,7 @@ def film_band_rt_grid(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_w, wa
 
     ``out[i, k, j] = sum_l weights[k, l] <P_l f>`` (f = R into *out_r*, T into *out_t*; clipped
     to [0, 1] against rounding: with weights[k, 0] = 1 it is a mean of values in [0, 1]), the
-    moments from :func:`film_band_moments` with ``coef[i, k]`` (film_setup at the band centre,
+    moments from :func:`film_band_moments_nb` with ``coef[i, k]`` (film_setup_nb at the band centre,
     shape (M, N, 14)), ``kq_a[i, k]``, ``kq_b[i, k]`` and thickness ``d[i, j]`` (or ``d[0, j]``
     when *d* has one row).  ``weights[k, 0] = 1`` and the rest 0 is the phase-uniform average.
     """
@@ -1348,7 +1350,7 @@ def film_band_rt_grid(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_w, wa
         di = 0 if shared_d else i
         row = coef[i, k]
         for j in range(j0, j1):
-            film_band_moments(row, kq_a[i, k], kq_b[i, k], d[di, j], pol, order, tol, quad_x, quad_w, mr, mt)
+            film_band_moments_nb(row, kq_a[i, k], kq_b[i, k], d[di, j], pol, order, tol, quad_x, quad_w, mr, mt)
             sr = 0.0
             st = 0.0
             for m in range(order + 1):
@@ -1388,7 +1390,7 @@ def film_band_weighted_sum(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_
             for c in range(n_c):
                 out[i, j, c] = 0.0
             for k in range(n_band):
-                film_band_moments(coef[i, k], kq_a[i, k], kq_b[i, k], d[di, j], pol, order, tol, quad_x, quad_w,
+                film_band_moments_nb(coef[i, k], kq_a[i, k], kq_b[i, k], d[di, j], pol, order, tol, quad_x, quad_w,
                                   mr, mt)
                 for c in range(n_c):
                     s = 0.0
@@ -1397,4 +1399,4 @@ def film_band_weighted_sum(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_
                     out[i, j, c] += s
 
 
-__all__ += ["BAND_ORDER_MAX", "film_band_average", "film_band_moments"]
+__all__ += ["BAND_ORDER_MAX", "film_band_average_nb", "film_band_moments_nb"]

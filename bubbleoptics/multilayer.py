@@ -20,7 +20,7 @@ def multilayer_rt(
     Characteristic-matrix method (Abelès; Born & Wolf, *Principles of Optics*, 7th ed.,
     §1.6.2; Macleod, *Thin-Film Optical Filters*, §2.2), with each layer's matrix scaled by its
     phase factor so thick absorbing layers cannot overflow (see
-    :func:`bubbleoptics.kernels.multilayer_rt`).  For one layer it equals
+    :func:`bubbleoptics.kernels.multilayer_rt_nb`).  For one layer it equals
     :func:`film_reflectance` to rounding.
 
     Parameters

@@ -28,9 +28,9 @@ from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM
 from bubbleoptics.kernels import (
     BAND_ORDER_MAX,
     _sph_bessel,
-    film_band_average,
-    film_band_moments,
-    film_setup,
+    film_band_average_nb,
+    film_band_moments_nb,
+    film_setup_nb,
 )
 
 POLS = ["s", "p", "unpolarized"]
@@ -200,7 +200,7 @@ def test_band_average_against_quadrature_of_the_airy_sum(pol, n0, n1, n2):
 @pytest.mark.reference
 @pytest.mark.parametrize("pol", POLS)
 def test_legendre_moments_against_quadrature(pol):
-    """film_band_moments' Fourier-Bessel series against Gauss-Legendre quadrature, order 0..8.
+    """film_band_moments_nb' Fourier-Bessel series against Gauss-Legendre quadrature, order 0..8.
 
     Includes near-grazing incidence (rho -> 0.8, long series), a band whose phase falls
     across it (kq_a < kq_b: odd moments change sign) and thin films (Bessel power series).
@@ -215,10 +215,10 @@ def test_legendre_moments_against_quadrature(pol):
     for theta in (0.0, 1.0, 1.45):
         c0 = math.cos(theta)
         lam_c = 500.0
-        c = film_setup(lam_c, c0, 1.0, n1 + 0j, 1.0 + 0j)
+        c = film_setup_nb(lam_c, c0, 1.0, n1 + 0j, 1.0 + 0j)
         for kq_a, kq_b in ((c[0].real * 1.03, c[0].real * 0.97), (c[0].real * 0.99, c[0].real * 1.01)):
             for d in (5.0, 150.0, 1200.0, 15000.0):
-                film_band_moments(c, kq_a, kq_b, d, POL_CODE[pol], order, 1e-15, empty, empty, mr, mt)
+                film_band_moments_nb(c, kq_a, kq_b, d, POL_CODE[pol], order, 1e-15, empty, empty, mr, mt)
                 # the same film, phase linear in u, by brute force (film_rt at scaled wavelengths:
                 # beta = d kq(u) with kq = 2 pi q1 / lambda, q1 fixed for a non-dispersive film)
                 kq_u = 0.5 * (kq_a + kq_b) + 0.5 * (kq_a - kq_b) * x
@@ -269,7 +269,7 @@ def test_spherical_bessel_against_mpmath():
 
 @pytest.mark.reference
 def test_tracer_kernel_matches_the_numpy_api():
-    """film_band_average (the scalar kernel for the tracer) == film_reflectance_band(weighting='phase')."""
+    """film_band_average_nb (the scalar kernel for the tracer) == film_reflectance_band(weighting='phase')."""
     edges = band_edges(16)
     n = bo.water_refractive_index
     for theta in (0.0, 1.0):
@@ -278,11 +278,11 @@ def test_tracer_kernel_matches_the_numpy_api():
         for k in range(16):
             a, b = edges[k], edges[k + 1]
             lc = 2 * a * b / (a + b)
-            c = film_setup(lc, c0, 1.0, complex(n(lc)), 1.0 + 0j)
-            kq_a = film_setup(a, c0, 1.0, complex(n(a)), 1.0 + 0j)[0].real
-            kq_b = film_setup(b, c0, 1.0, complex(n(b)), 1.0 + 0j)[0].real
+            c = film_setup_nb(lc, c0, 1.0, complex(n(lc)), 1.0 + 0j)
+            kq_a = film_setup_nb(a, c0, 1.0, complex(n(a)), 1.0 + 0j)[0].real
+            kq_b = film_setup_nb(b, c0, 1.0, complex(n(b)), 1.0 + 0j)[0].real
             for i, d in enumerate((0.0, 700.0, 9000.0)):
-                r, t = film_band_average(c, kq_a, kq_b, d, 2)
+                r, t = film_band_average_nb(c, kq_a, kq_b, d, 2)
                 assert r == pytest.approx(R_api[i, k], abs=1e-15)
                 assert t == pytest.approx(T_api[i, k], abs=1e-15)
 

@@ -6,12 +6,12 @@ import mpmath
 import numpy as np
 import pytest
 
-from bubbleoptics.kernels import BETA_POLY_MAX, film_evaluate, film_setup, sin2_cos2
+from bubbleoptics.kernels import BETA_POLY_MAX, film_evaluate_nb, film_setup_nb, sin2_cos2_nb
 
 
 @pytest.mark.reference
 def test_sin2_cos2_against_mpmath():
-    """sin2_cos2 (hand-written, vectorizable) against mpmath at 40 digits.
+    """sin2_cos2_nb (hand-written, vectorizable) against mpmath at 40 digits.
 
     Covers small phases, random phases up to BETA_POLY_MAX, and the floating-point multiples
     of pi/2 where the reduced argument nearly vanishes (the hard case of argument reduction).
@@ -30,7 +30,7 @@ def test_sin2_cos2_against_mpmath():
     worst_abs = worst_rel = 0.0
     with mpmath.workdps(40):
         for x in xs:
-            s2, c2 = sin2_cos2(x)
+            s2, c2 = sin2_cos2_nb(x)
             ref_s = mpmath.sin(mpmath.mpf(float(x))) ** 2
             ref_c = mpmath.cos(mpmath.mpf(float(x))) ** 2
             for got, ref in ((s2, ref_s), (c2, ref_c)):
@@ -47,7 +47,7 @@ def test_sin2_cos2_identity_and_libm():
     """sin² + cos² = 1 to rounding, and agreement with libm to 4e-16 over the whole range."""
     xs = np.linspace(0, BETA_POLY_MAX, 20001)
     for x in xs:
-        s2, c2 = sin2_cos2(x)
+        s2, c2 = sin2_cos2_nb(x)
         assert abs(s2 + c2 - 1.0) <= 4e-16
         assert abs(s2 - math.sin(x) ** 2) <= 4e-16 + 1e-15 * math.sin(x) ** 2
 
@@ -60,13 +60,13 @@ def test_libm_fallback_beyond_poly_range():
     lambda/(2 n): a film one period thicker than a huge multiple of periods matches the thin one
     to the rounding of the phase (absolute 1e-9 at beta ~ 1e7 where beta itself carries 1e-9).
     """
-    c = film_setup(500.0, 1.0, 1.0, 1.5 + 0j, 1.0 + 0j)
+    c = film_setup_nb(500.0, 1.0, 1.0, 1.5 + 0j, 1.0 + 0j)
     period = 500.0 / (2 * 1.5)
     d_small = 123.0
     d_big = d_small + 10**7 * period
     assert c[0].real * d_big > BETA_POLY_MAX
-    r_small, _ = film_evaluate(c, d_small, 2)
-    r_big, t_big = film_evaluate(c, d_big, 2)
+    r_small, _ = film_evaluate_nb(c, d_small, 2)
+    r_big, t_big = film_evaluate_nb(c, d_big, 2)
     assert abs(r_big - r_small) < 1e-8
     assert abs(r_big + t_big - 1) < 1e-14
 
@@ -87,19 +87,19 @@ _FREE_GRID = [
 
 @pytest.mark.reference
 def test_free_film_against_mpmath():
-    """free_film_setup/evaluate (Airy's formula with the coefficient of finesse) against the
+    """free_film_setup_nb/evaluate (Airy's formula with the coefficient of finesse) against the
     40-digit Airy sum of bubbleoptics.study.reference, s, p and unpolarized, from normal to
     exactly grazing incidence and from index match to n = 2.5: within 1e-13 absolute."""
-    from bubbleoptics.kernels import free_film_evaluate, free_film_setup
+    from bubbleoptics.kernels import free_film_evaluate_nb, free_film_setup_nb
     from bubbleoptics.study import reference as ref
 
     worst = 0.0
     for wl, c0, n1, d, n0 in _FREE_GRID[::3]:
         theta = math.acos(c0)
-        c = free_film_setup(wl, c0, n0, n1)
+        c = free_film_setup_nb(wl, c0, n0, n1)
         assert c[0] >= 0.0
         for pol, name in ((0, "s"), (1, "p"), (2, "unpolarized")):
-            R, T = free_film_evaluate(c, d, pol)
+            R, T = free_film_evaluate_nb(c, d, pol)
             R_ref, T_ref = ref.film_rt_mp(wl, d, theta, n1, n0, n0, polarization=name)
             worst = max(worst, abs(R - float(R_ref)), abs(T - float(T_ref)))
     assert worst < 1e-13, worst
@@ -107,24 +107,24 @@ def test_free_film_against_mpmath():
 
 @pytest.mark.reference
 def test_free_film_equals_the_general_kernel():
-    """The symmetric case agrees with film_setup/film_evaluate (n2 = n0) to rounding (5e-15),
-    and its band average with film_band_average (1e-14: one atan2 of slightly different
+    """The symmetric case agrees with film_setup_nb/film_evaluate_nb (n2 = n0) to rounding (5e-15),
+    and its band average with film_band_average_nb (1e-14: one atan2 of slightly different
     arguments); R + T = 1 to an ulp."""
-    from bubbleoptics.kernels import film_band_average, free_film_band_average, free_film_evaluate, free_film_setup
+    from bubbleoptics.kernels import film_band_average_nb, free_film_band_average_nb, free_film_evaluate_nb, free_film_setup_nb
 
     worst = worst_band = worst_sum = 0.0
     for wl, c0, n1, d, n0 in _FREE_GRID:
-        c = free_film_setup(wl, c0, n0, n1)
-        g = film_setup(wl, c0, n0, n1 + 0j, n0 + 0j)
-        kq_a = free_film_setup(wl - 10.0, c0, n0, n1)[0]
-        kq_b = free_film_setup(wl + 10.0, c0, n0, n1)[0]
+        c = free_film_setup_nb(wl, c0, n0, n1)
+        g = film_setup_nb(wl, c0, n0, n1 + 0j, n0 + 0j)
+        kq_a = free_film_setup_nb(wl - 10.0, c0, n0, n1)[0]
+        kq_b = free_film_setup_nb(wl + 10.0, c0, n0, n1)[0]
         for pol in (0, 1, 2):
-            R, T = free_film_evaluate(c, d, pol)
-            R0, T0 = film_evaluate(g, d, pol)
+            R, T = free_film_evaluate_nb(c, d, pol)
+            R0, T0 = film_evaluate_nb(g, d, pol)
             worst = max(worst, abs(R - R0), abs(T - T0))
             worst_sum = max(worst_sum, abs(R + T - 1.0))
-            Rb, Tb = free_film_band_average(c, kq_a, kq_b, d, pol)
-            Rb0, Tb0 = film_band_average(g, kq_a, kq_b, d, pol)
+            Rb, Tb = free_film_band_average_nb(c, kq_a, kq_b, d, pol)
+            Rb0, Tb0 = film_band_average_nb(g, kq_a, kq_b, d, pol)
             worst_band = max(worst_band, abs(Rb - Rb0), abs(Tb - Tb0))
     assert worst < 5e-15 and worst_band < 1e-14 and worst_sum < 5e-16, (worst, worst_band, worst_sum)
 
@@ -134,11 +134,11 @@ def test_free_film_limits():
     """Zero thickness and index match transmit everything; p light at Brewster's angle
     (tan theta = n1/n0) is not reflected at any thickness; beyond the film's critical angle
     (n1 < n0) the closed form declines (kq = -1)."""
-    from bubbleoptics.kernels import free_film_evaluate, free_film_setup
+    from bubbleoptics.kernels import free_film_evaluate_nb, free_film_setup_nb
 
-    assert free_film_evaluate(free_film_setup(500.0, 0.7, 1.0, 1.33), 0.0, 2) == (0.0, 1.0)
-    assert free_film_evaluate(free_film_setup(500.0, 0.7, 1.33, 1.33), 812.0, 2) == (0.0, 1.0)
+    assert free_film_evaluate_nb(free_film_setup_nb(500.0, 0.7, 1.0, 1.33), 0.0, 2) == (0.0, 1.0)
+    assert free_film_evaluate_nb(free_film_setup_nb(500.0, 0.7, 1.33, 1.33), 812.0, 2) == (0.0, 1.0)
     brewster = math.cos(math.atan(1.5))
-    R_p, T_p = free_film_evaluate(free_film_setup(500.0, brewster, 1.0, 1.5), 333.0, 1)
+    R_p, T_p = free_film_evaluate_nb(free_film_setup_nb(500.0, brewster, 1.0, 1.5), 333.0, 1)
     assert R_p < 1e-30 and T_p == 1.0
-    assert free_film_setup(500.0, 0.2, 1.5, 1.2)[0] == -1.0
+    assert free_film_setup_nb(500.0, 0.2, 1.5, 1.2)[0] == -1.0

@@ -101,8 +101,8 @@ class Workspace(NamedTuple):
     L: np.ndarray  # (C,) radiance of the camera ray
     bvh_stack: np.ndarray  # (64,) int64
     film_coef_cos: np.ndarray  # (B,) cos(theta) of each film's kept set-up (-1: none)
-    film_coef: np.ndarray  # (B, C, N_FILM_COEFFICIENTS) complex: bubbleoptics.kernels.film_setup
-    free_kq: np.ndarray  # (B, C) bubbleoptics.kernels.free_film_setup (lossless films): kq,
+    film_coef: np.ndarray  # (B, C, N_FILM_COEFFICIENTS) complex: bubbleoptics.kernels.film_setup_nb
+    free_kq: np.ndarray  # (B, C) bubbleoptics.kernels.free_film_setup_nb (lossless films): kq,
     free_Fs: np.ndarray  # F_s,
     free_Fp: np.ndarray  # F_p
     film_kq: np.ndarray  # (B, C + 1) band-edge phase rates (band-averaged films)

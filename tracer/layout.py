@@ -155,7 +155,7 @@ class PackedScene(NamedTuple):
     # -- channels
     wavelengths: np.ndarray  # (C,) nm: band centres (spectral) or the RGB primaries' dominant wavelengths
     band_edges: np.ndarray  # (C + 1,) nm (spectral; zeros in RGB)
-    band_mode: int  # 1: films averaged over each band (bubbleoptics.kernels.film_band_average)
+    band_mode: int  # 1: films averaged over each band (bubbleoptics.kernels.film_band_average_nb)
     to_rgb: np.ndarray  # (3, C): channels -> linear sRGB
     rgb_basis: np.ndarray  # (C, 3): linear sRGB -> channels
     rgb_round_trip: np.ndarray  # (3, 3) = to_rgb @ rgb_basis (an environment seen directly)

@@ -210,7 +210,7 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
 
     *spectral_method*: ``"point"`` evaluates each bubble film at the band centres; ``"band"``
     uses each band's film averaged in closed form over the band
-    (:func:`bubbleoptics.kernels.film_band_average`), which does not alias on thick films;
+    (:func:`bubbleoptics.kernels.film_band_average_nb`), which does not alias on thick films;
     ``"auto"`` chooses between them (:func:`resolve_spectral_method`).
     ``PackedScene.band_mode`` records the choice.
     """

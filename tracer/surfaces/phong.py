@@ -9,7 +9,7 @@ Spheres and triangle meshes carry it.  Its record is :data:`tracer.layout.PHONG`
   light's radiance (eq. 1.4, the sum over lights), times the shadow ray's transmittance;
 * **scatter**: a mirror child weighted by :math:`k_s C + k_t F` and a refracted child (Snell)
   weighted by :math:`k_t (1 - F) C`, F the unpolarized Fresnel reflectance of the interface
-  (:func:`bubbleoptics.kernels.fresnel_interface`; 0 when n = 1; total internal reflection
+  (:func:`bubbleoptics.kernels.fresnel_interface_nb`; 0 when n = 1; total internal reflection
   gives F = 1 and no refracted child).  A cut child ends with the environment along it
   (factor 1: no closed form is assumed for a general material);
 * **shadow**: a shadow ray crossing the surface is multiplied by :math:`k_t (1 - F) C`
@@ -23,7 +23,7 @@ import math
 
 from numba import njit
 
-from bubbleoptics.kernels import fresnel_interface, normal_wavevector
+from bubbleoptics.kernels import fresnel_interface_nb, normal_wavevector_nb
 
 __all__ = ["fresnel_unpolarized", "phong_ambient", "phong_scatter", "phong_toward_light", "phong_shadow"]
 
@@ -37,7 +37,7 @@ def fresnel_unpolarized(n1, n2, cos_i):
     (0 when n1 == n2, 1 at total internal reflection)."""
     if n1 == n2:
         return 0.0
-    res = fresnel_interface(n1, n2 + 0j, cos_i)
+    res = fresnel_interface_nb(n1, n2 + 0j, cos_i)
     return 0.5 * (res[4] + res[5])
 
 
@@ -86,7 +86,7 @@ def phong_scatter(scene, ws, m, hit):
         F = fresnel_unpolarized(n1, n2, cos_i)
         if n1 != n2 and F < 1.0:
             eta = n1 / n2
-            q2 = normal_wavevector(n2 + 0j, n1, n1 * cos_i)  # n2 cos(theta_t), no cancellation
+            q2 = normal_wavevector_nb(n2 + 0j, n1, n1 * cos_i)  # n2 cos(theta_t), no cancellation
             cos_t = q2.real / n2
             k = eta * cos_i - cos_t
             tx = eta * d[0] + k * nf[0]

@@ -8,8 +8,8 @@ it answers the integrator's questions (:mod:`tracer.surfaces`):
   on weighted by :math:`T(\\lambda, \\theta, d)` (a free-standing film displaces a ray by less
   than its thickness and does not bend it), from the exact Airy sum of
   :mod:`bubbleoptics.kernels` for unpolarized light: at the band centres
-  (:func:`~bubbleoptics.kernels.film_rt`), or averaged over each band in closed form when
-  ``PackedScene.band_mode`` is 1 (:func:`~bubbleoptics.kernels.film_band_average`);
+  (:func:`~bubbleoptics.kernels.film_rt_nb`), or averaged over each band in closed form when
+  ``PackedScene.band_mode`` is 1 (:func:`~bubbleoptics.kernels.film_band_average_nb`);
 * **toward a light**: a Phong-lobe highlight :math:`R\\,(R\\cdot V)^{s}` in the mirror direction
   (s = the film's shininess; a point light has no extent, so this lobe stands in for the
   reflected image of a small source);
@@ -42,13 +42,13 @@ from bubbleoptics.kernels import (
     COS_MIN,
     N_FILM_COEFFICIENTS,
     POL_UNPOLARIZED,
-    film_band_average,
-    film_evaluate,
-    film_setup,
-    free_film_band_average,
-    free_film_evaluate_bands,
-    free_film_setup_bands,
-    normal_wavevector,
+    film_band_average_nb,
+    film_evaluate_nb,
+    film_setup_nb,
+    free_film_band_average_nb,
+    free_film_evaluate_bands_nb,
+    free_film_setup_bands_nb,
+    normal_wavevector_nb,
 )
 
 from ..films import film_thickness
@@ -68,8 +68,8 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
     normal *n_out*, met at cos(theta) = *cos_i*.
 
     A lossless film (every channel's index real) uses the free-standing film's closed form
-    (:func:`~bubbleoptics.kernels.free_film_setup`, three numbers per channel), an absorbing
-    one the general Airy sum (:func:`~bubbleoptics.kernels.film_setup`); either way at the
+    (:func:`~bubbleoptics.kernels.free_film_setup_nb`, three numbers per channel), an absorbing
+    one the general Airy sum (:func:`~bubbleoptics.kernels.film_setup_nb`); either way at the
     band centres, or averaged over each band when ``scene.band_mode`` is 1.
 
     Work a path inside a bubble does not need is skipped: the per-channel set-up (everything
@@ -98,12 +98,12 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
     if ws.film_coef_cos[b] != cos_i:
         wl = scene.wavelengths
         if lossless:
-            free_film_setup_bands(wl, scene.film_n[b], cos_i, 1.0, fkq[b], ffs[b], ffp[b])
+            free_film_setup_bands_nb(wl, scene.film_n[b], cos_i, 1.0, fkq[b], ffs[b], ffp[b])
         else:
             fn = scene.film_n
             fk = scene.film_k
             for c in range(nc):
-                setup = film_setup(wl[c], cos_i, 1.0, complex(fn[b, c], fk[b, c]), 1.0 + 0j)
+                setup = film_setup_nb(wl[c], cos_i, 1.0, complex(fn[b, c], fk[b, c]), 1.0 + 0j)
                 for k in range(N_FILM_COEFFICIENTS):
                     coef[b, c, k] = setup[k]
         if band:
@@ -112,24 +112,24 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
             ne = scene.film_n_edges
             ke = scene.film_k_edges
             for e in range(nc + 1):
-                kq[b, e] = 2.0 * math.pi / edges[e] * normal_wavevector(complex(ne[b, e], ke[b, e]), 1.0, q0).real
+                kq[b, e] = 2.0 * math.pi / edges[e] * normal_wavevector_nb(complex(ne[b, e], ke[b, e]), 1.0, q0).real
         ws.film_coef_cos[b] = cos_i
     if lossless and not band:
-        free_film_evaluate_bands(fkq[b], ffs[b], ffp[b], d_nm, POL_UNPOLARIZED, R, T)
+        free_film_evaluate_bands_nb(fkq[b], ffs[b], ffp[b], d_nm, POL_UNPOLARIZED, R, T)
     elif lossless:
         for c in range(nc):
-            r, t = free_film_band_average((fkq[b, c], ffs[b, c], ffp[b, c]), kq[b, c], kq[b, c + 1], d_nm,
+            r, t = free_film_band_average_nb((fkq[b, c], ffs[b, c], ffp[b, c]), kq[b, c], kq[b, c + 1], d_nm,
                                           POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
     elif band:
         for c in range(nc):
-            r, t = film_band_average(coef[b, c], kq[b, c], kq[b, c + 1], d_nm, POL_UNPOLARIZED)
+            r, t = film_band_average_nb(coef[b, c], kq[b, c], kq[b, c + 1], d_nm, POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
     else:
         for c in range(nc):
-            r, t = film_evaluate(coef[b, c], d_nm, POL_UNPOLARIZED)
+            r, t = film_evaluate_nb(coef[b, c], d_nm, POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
     if f.uniform:
