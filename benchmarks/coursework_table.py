@@ -13,7 +13,6 @@ version).  Finally a fresh process is timed from start to a saved 960x960 image 
 comes from numba's cache).
 """
 
-import argparse
 import os
 import subprocess
 import sys
@@ -23,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from bubbleoptics.study import load_coursework_table, provenance, write_csv
+from bubbleoptics.study.results import image_benchmark_arguments
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "coursework_table.csv"
@@ -37,13 +37,7 @@ def coursework_times():
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--quick", action="store_true", help="240x240, one repeat (smoke test)")
-    parser.add_argument("--out", type=Path, default=OUT)
-    args = parser.parse_args(argv)
-    size = 240 if args.quick else 960
-    repeats = 1 if args.quick else args.repeats
+    args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 3, 1, argv)
 
     import tracer
     from tqdm import tqdm

@@ -25,7 +25,6 @@ its first call initialises its CPU target), ``import tracer``,
 and ``python -m tracer image OUT.png`` of the built-in scene at 960x960 (start to saved file).
 """
 
-import argparse
 import math
 import os
 import subprocess
@@ -38,7 +37,7 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from bubbleoptics.study.results import provenance, write_csv
+from bubbleoptics.study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "throughput.csv"
@@ -127,13 +126,7 @@ def fresh_process_seconds(args_list, repeats):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=7)
-    parser.add_argument("--quick", action="store_true", help="240x240, two repeats (smoke test)")
-    parser.add_argument("--out", type=Path, default=OUT)
-    args = parser.parse_args(argv)
-    size = 240 if args.quick else 960
-    repeats = 2 if args.quick else args.repeats
+    args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 7, 2, argv)
 
     import tracer
 

@@ -10,22 +10,16 @@ closed form: a camera ray meeting a bubble at angle theta sends out R + T * T / 
 series), whatever the depth or pruning.
 """
 
-import math
-
 import numpy as np
 import pytest
 
 import bubbleoptics as bo
 import tracer
+from scene_geometry import incidence_cosines, luminance  # tests/scene_geometry.py
 from tracer.scene import Bubble, Camera, Environment, FilmProfile, Material, Scene, Sphere
 
 BACKGROUND = (0.3, 0.5, 0.7)
 SMALL = dict(width=32, height=32, progress=False)
-
-
-def luminance(img):
-    """CIE Y of linear sRGB (IEC 61966-2-1: the second row of its RGB -> XYZ matrix)."""
-    return np.asarray(img) @ np.array([0.2126, 0.7152, 0.0722])
 
 
 def one_bubble(film, n_film=1.333, radius=1.0):
@@ -89,23 +83,6 @@ def test_clear_glass_sphere_vanishes_in_uniform_light(depth):
     assert np.all(luminance(img) <= luminance(np.array(BACKGROUND)) + 1e-12)
 
 
-def pixel_cosines(scene, width, height):
-    """cos(theta) at which each pixel-centre camera ray meets the bubble (radius 1 at the
-    origin; 0 where it misses), from the ray-sphere quadratic solved here."""
-    cam = tracer.pack.pack_scene(scene).camera[0]
-    o = np.asarray(cam["origin"], float)
-    out = np.zeros((height, width))
-    for y in range(height):
-        for x in range(width):
-            d = np.array(tracer.sampling.camera_ray(cam, x + 0.5, y + 0.5, width, height))
-            b = o @ d
-            disc = b * b - (o @ o - 1.0)
-            if disc > 0:
-                n = o + (-b - math.sqrt(disc)) * d
-                out[y, x] = abs(d @ n)
-    return out
-
-
 @pytest.mark.analytic
 @pytest.mark.parametrize("depth, threshold", [(1, 1e-3), (3, 0.0), (10, 1e-3)])
 def test_absorbing_bubble_matches_the_closed_form(depth, threshold):
@@ -120,7 +97,7 @@ def test_absorbing_bubble_matches_the_closed_form(depth, threshold):
     packed = tracer.pack.pack_scene(scene)
     wl = packed.wavelengths
     bands_bg = packed.rgb_basis @ np.array(BACKGROUND)
-    cosines = pixel_cosines(scene, w, h)
+    cosines = incidence_cosines(scene, w, h)
     hit = cosines > 1e-3
     theta = np.arccos(np.clip(cosines[hit], 0, 1))[:, None]
     R = bo.film_reflectance(wl, 300.0, theta, n_film=n)

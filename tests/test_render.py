@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import tracer
+from scene_geometry import incidence_cosines, luminance  # tests/scene_geometry.py
 from tracer.environment import environment_rgb
 from tracer.scene import Bubble, Camera, Environment, FilmProfile, Material, PointLight, Scene, Sphere
 
@@ -21,29 +22,6 @@ def bubble_scene(thickness_nm=400.0, env=None, lights=(), n_film=1.333, **kw):
         ambient=(0.0, 0.0, 0.0),
         **kw,
     )
-
-
-def luminance(img):
-    """CIE Y of linear sRGB (IEC 61966-2-1's second row of RGB -> XYZ)."""
-    return img @ np.array([0.2126, 0.7152, 0.0722])
-
-
-def incidence_cosines(scene, w, h):
-    """cos(angle of incidence) of each pixel-centre camera ray on the unit sphere at the
-    origin (0 where it misses), computed analytically."""
-    cam = tracer.pack.pack_scene(scene).camera[0]
-    o = cam["origin"]
-    out = np.zeros((h, w))
-    for y in range(h):
-        for x in range(w):
-            d = np.array(tracer.sampling.camera_ray(cam, x + 0.5, y + 0.5, w, h))
-            b = o @ d
-            disc = b * b - (o @ o - 1.0)
-            if disc > 0:
-                t = -b - math.sqrt(disc) if o @ o > 1 else -b + math.sqrt(disc)
-                n = o + t * d
-                out[y, x] = abs(d @ n)
-    return out
 
 
 @pytest.mark.analytic

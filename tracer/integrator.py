@@ -46,7 +46,6 @@ from .environment import environment_rgb
 from bubbleoptics.kernels import N_FILM_COEFFICIENTS
 
 from .geometry import intersect_bvh, intersect_sphere, offset_origin, sphere_hit_point
-from .layout import SURFACE_FILM
 from .sampling import camera_ray, stratified_offset
 
 __all__ = [

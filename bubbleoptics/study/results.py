@@ -31,7 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_commented_csv", "read_columns", "rows_to_columns", "write_csv", "provenance", "wall_times"]
+__all__ = ["read_commented_csv", "read_columns", "rows_to_columns", "write_csv", "provenance", "wall_times",
+           "image_benchmark_arguments"]
 
 
 def read_commented_csv(path):
@@ -112,6 +113,31 @@ def provenance(script, *details):
     head = (f"written by {script} on {datetime.date.today()} ({machine}, {os.cpu_count()} cores, "
             f"Python {platform.python_version()})")
     return "; ".join([head, *details])
+
+
+def image_benchmark_arguments(description, out, repeats, quick_repeats, argv=None, size=960, quick_size=240):
+    """The command line the image benchmarks share: ``[--repeats N] [--quick] [--out PATH]``.
+
+    Returns ``(args, size, repeats)``: the image size and number of repeats to use (*quick_size*
+    and *quick_repeats* with ``--quick``, a smoke test).
+
+    Example
+    -------
+    >>> args, size, repeats = image_benchmark_arguments("x", Path("o.csv"), 7, 2, argv=["--quick"])
+    >>> size, repeats, args.out.name
+    (240, 2, 'o.csv')
+    """
+    import argparse
+
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--repeats", type=int, default=repeats)
+    parser.add_argument("--quick", action="store_true",
+                        help=f"{quick_size}x{quick_size}, {quick_repeats} repeat(s) (smoke test)")
+    parser.add_argument("--out", type=Path, default=out)
+    args = parser.parse_args(argv)
+    if args.quick:
+        return args, quick_size, quick_repeats
+    return args, size, args.repeats
 
 
 def wall_times(func, repeats, warmup=1):
