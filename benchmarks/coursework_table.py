@@ -80,8 +80,8 @@ def main(argv=None):
             print(f"{mode:10s} {nb} bubble(s): depth 10 / depth 1 = {g:5.2f}x "
                   f"(coursework {coursework[10][nb] / coursework[1][nb]:.0f}x)")
     t3 = get(3, 10, "pruned")["seconds_median"]
-    print(f"three bubbles, depth 10, pruned: {t3:.3f} s (target <= 1.9 s); coursework {coursework[10][3]} s: "
-          f"{coursework[10][3] / t3:,.0f}x")
+    print(f"three bubbles, depth 10, pruned: {t3:.3f} s; the coursework's {coursework[10][3]} s is "
+          f"{coursework[10][3] / t3:,.0f}x that (target: at least 10,000x)")
 
     # a fresh process, start to a saved image, compiled code from the cache
     cold = []
