@@ -46,9 +46,9 @@ def _check_int(name, value, minimum):
     return int(value)
 
 
-#: Rows per task handed to a thread at a time (numba's dynamic scheduling,
-#: :func:`numba.parallel_chunksize`, one task at a time): small enough to balance an image
-#: whose objects sit in one part of it, large enough that a task's workspace costs nothing.
+#: Rows per task of the parallel loop (one workspace each): small enough to balance an image
+#: whose objects sit in one part of it (the rows are spread over the tasks, :func:`_spread`),
+#: large enough that a task's workspace costs nothing.
 ROWS_PER_TASK = 8
 #: A render predicted to take longer than this (s) shows a progress bar and is split into
 #: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
@@ -59,12 +59,27 @@ PNG_COMPRESS_LEVEL = 3
 CALL_SECONDS = 0.25
 
 
+def _spread(rows):
+    """*rows* reordered so that every stretch of the list samples the whole set: sorted by the
+    bit-reversed position of each row (van der Corput order).  numba hands the tasks of a
+    parallel loop to its threads in contiguous stretches, so in the plain order a thread whose
+    stretch holds the bubbles would work while the other waits."""
+    n = rows.size
+    bits = max(1, int(n - 1).bit_length())
+    pos = np.arange(n, dtype=np.int64)
+    rev = np.zeros(n, dtype=np.int64)
+    for b in range(bits):
+        rev |= ((pos >> b) & 1) << (bits - 1 - b)
+    return rows[np.argsort(rev, kind="stable")]
+
+
 def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts):
     """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``."""
     import numba
 
     with numba.parallel_chunksize(1):
-        render_rows(packed, rows, ROWS_PER_TASK, width, height, spp, seed, depth, threshold, image, counts)
+        render_rows(packed, _spread(rows), ROWS_PER_TASK, width, height, spp, seed, depth, threshold, image,
+                    counts)
 
 
 def _interleaved(height, n_parts):
