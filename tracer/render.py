@@ -202,16 +202,19 @@ def save_image(image, path, *, bits=8):
         raise ValueError(f"unsupported image type {path.suffix!r}: use .png or .npy")
     if bits not in (8, 16):
         raise ValueError(f"bits must be 8 or 16 (got {bits!r})")
-    import imageio.v3 as iio
-
     from bubbleoptics.colorimetry import linear_srgb_to_srgb
 
     encoded = linear_srgb_to_srgb(np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0))
     if bits == 8:
+        # Pillow directly (the writer imageio itself uses for PNG): imageio's plugin machinery
+        # costs a fresh process a tenth of a second before the first write
+        from PIL import Image
+
         data = np.round(encoded * 255).astype(np.uint8)
-        write_atomically(path, lambda tmp: iio.imwrite(tmp, data, extension=".png", compress_level=PNG_COMPRESS_LEVEL))
+        write_atomically(path, lambda tmp: Image.fromarray(data, mode="RGB").save(
+            tmp, format="PNG", compress_level=PNG_COMPRESS_LEVEL))
     else:
-        # Pillow (imageio's PNG writer) has no 16-bit-per-channel RGB mode; pypng writes it
+        # Pillow has no 16-bit-per-channel RGB mode; pypng writes it
         import png
 
         data = np.round(encoded * 65535).astype(np.uint16)
