@@ -8,6 +8,7 @@ averaged over each band only when one is thick enough for point samples to alias
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -45,8 +46,14 @@ def channel_setup(spectral, n_bands):
     directly comes back unchanged (without it, 16 bands shift colours by up to 3.5 %).
     RGB: three linear-sRGB channels; a bubble's film is then evaluated at the dominant
     wavelengths of the sRGB primaries (611, 549, 464 nm), a crude stand-in for its spectrum
-    that the run-time-against-error study quantifies.
+    that the run-time-against-error study quantifies.  New arrays on every call (computed once
+    per setting and kept: many frames of a movie, or an editor's previews, pack the same).
     """
+    return tuple(a.copy() for a in _channel_setup(bool(spectral), int(n_bands)))
+
+
+@functools.lru_cache(maxsize=16)
+def _channel_setup(spectral, n_bands):
     if not spectral:
         return srgb_dominant_wavelengths(), np.eye(3), np.eye(3)
     wl, w = band_spectral_weights(n_bands)
