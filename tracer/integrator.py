@@ -174,8 +174,11 @@ def surface_at(scene, kind, idx, o, d, t):
 
 @njit(**_INLINE)
 def add_environment(scene, L, w, factor, d):
-    """``L += w * factor * environment(d)`` per channel (*factor* per channel too)."""
+    """``L += w * factor * environment(d)`` per channel (*factor* per channel too); nothing to
+    add where the environment is black (the coursework's scenes: every escaping ray)."""
     r, g, b = environment_rgb(scene.environment[0], scene.env_image, d)
+    if r == 0.0 and g == 0.0 and b == 0.0:
+        return
     basis = scene.rgb_basis
     for c in range(L.shape[0]):
         L[c] += w[c] * factor[c] * (basis[c, 0] * r + basis[c, 1] * g + basis[c, 2] * b)
