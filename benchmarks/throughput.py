@@ -19,12 +19,16 @@ repeats), beside the seconds and rays per second.  Cases, all 960x960 at one sam
 
 Every case runs with 1 and with 2 threads (``numba.set_num_threads``), and so do the floor
 and a probe of the machine (:func:`simd_probe_kernel`: vectorized arithmetic only), whose
-speed-ups from 1 to 2 threads say what this machine allows.  Finally fresh processes are
+speed-ups from 1 to 2 threads say what this machine allows; and a check of the machine's cores:
+each of the floor, the probe, the three-bubble and the built-in scene in one single-threaded
+process alone, then in two such processes at once (``--child`` runs one of them).  Finally
+fresh processes are
 timed: ``import numba``, numba with one kernel loaded from its cache (numba's own start-up:
 its first call initialises its CPU target), ``import tracer``,
 and ``python -m tracer image OUT.png`` of the built-in scene at 960x960 (start to saved file).
 """
 
+import json
 import math
 import os
 import subprocess
@@ -116,6 +120,64 @@ def cases(tracer):
     return out
 
 
+def child(name, size, repeats, gate, copies):
+    """``--child``: one single-threaded process of the core-sharing check (:func:`core_sharing`):
+    run *name* once, wait until *copies* processes are ready, then print the seconds of
+    *repeats* runs as JSON."""
+    numba.set_num_threads(1)
+    if name == "floor":
+        centers = np.array([[0.0, 0.0, -5.0], [1.5, 0.0, -6.0], [-1.5, 0.0, -6.0]])
+        radii = np.array([1.0, 0.7, 0.7])
+        out = np.zeros((size, size))
+
+        def run():
+            floor_kernel(size, size, centers, radii, 0.5, out)
+    elif name == "probe":
+        out = np.zeros(64)
+
+        def run():
+            simd_probe_kernel(100000, out)
+    else:
+        import tracer
+
+        scene = {case: sc for case, sc, _ in cases(tracer)}[name]
+
+        def run():
+            tracer.render(scene, width=size, height=size, progress=False)
+    run()
+    Path(f"{gate}.{os.getpid()}").touch()
+    while len(list(Path(gate).parent.glob(Path(gate).name + ".*"))) < copies:
+        time.sleep(0.01)
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - t0)
+    print(json.dumps(times))
+
+
+def core_sharing(size, repeats):
+    """Rows: each workload in one single-threaded process alone, then in two at once.
+
+    If two *independent* processes slow each other down, the limit to what two threads can
+    gain is the machine (what its cores share), not the tracer's threading."""
+    rows = []
+    for name in ("floor", "probe", "coursework_3_bubbles", "builtin"):
+        runs = {}
+        for copies in (1, 2):
+            gate = Path(tempfile.mkdtemp()) / "ready"
+            procs = [subprocess.Popen([sys.executable, __file__, "--child", name, str(size), str(repeats), str(gate),
+                                       str(copies)], stdout=subprocess.PIPE, text=True) for _ in range(copies)]
+            runs[copies] = np.array([json.loads(p.communicate()[0]) for p in procs]).ravel()
+        alone, together = runs[1], runs[2]
+        rows.append(dict(case=f"two processes at once: {name}", depth="", threads=1, width=size, height=size,
+                         repeats=repeats, seconds_median=float(np.median(together)),
+                         seconds_min=float(together.min()), seconds_max=float(together.max()),
+                         alone_seconds_median=float(np.median(alone)),
+                         slowdown_together=float(np.median(together) / np.median(alone))))
+    return rows
+
+
 def fresh_process_seconds(args_list, repeats):
     times = []
     for _ in range(repeats):
@@ -126,6 +188,10 @@ def fresh_process_seconds(args_list, repeats):
 
 
 def main(argv=None):
+    if argv is None and len(sys.argv) > 1 and sys.argv[1] == "--child":
+        name, size, repeats, gate, copies = sys.argv[2:7]
+        child(name, int(size), int(repeats), gate, int(copies))
+        return 0
     args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 7, 2, argv)
 
     import tracer
@@ -201,6 +267,8 @@ def main(argv=None):
                                              / float(np.median(probe_times[(name, 2)])))
         rows.append(row)
 
+    rows += core_sharing(size, repeats)
+
     # fresh processes
     png = Path(tempfile.mkdtemp()) / "builtin.png"
     fresh = {
@@ -227,6 +295,8 @@ def main(argv=None):
                      f"{r['ratio_to_floor_max']:.1f}]  {r['rays_per_second'] / 1e6:7.2f} Mrays/s")
         if "speedup_1_to_2_threads" in r:
             line += f"  1->2 threads {r['speedup_1_to_2_threads']:.2f}x"
+        if "slowdown_together" in r:
+            line += f"  alone {r['alone_seconds_median']:.4f} s: slowed {r['slowdown_together']:.2f}x by the other"
         print(line)
     if len(thread_counts) == 2:
         d10 = get("coursework_3_bubbles", 10, 2)["seconds_median"]
@@ -235,7 +305,8 @@ def main(argv=None):
 
     fields = ["case", "depth", "threads", "width", "height", "repeats", "seconds_median", "seconds_min",
               "seconds_max", "floor_seconds_median", "ratio_to_floor_median", "ratio_to_floor_min",
-              "ratio_to_floor_max", "rays_total", "rays_per_second", "speedup_1_to_2_threads"]
+              "ratio_to_floor_max", "rays_total", "rays_per_second", "speedup_1_to_2_threads",
+              "alone_seconds_median", "slowdown_together"]
     write_csv(args.out, rows, provenance("benchmarks/throughput.py",
                                          f"{os.cpu_count()} cores visible, numba threads {max_threads}; "
                                          "regenerate with: python benchmarks/throughput.py"),
