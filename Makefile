@@ -19,9 +19,10 @@ demo: $(STAMP)
 	$(PY) -m tracer image demo-output/bubbles.png
 	@echo "$(CURDIR)/demo-output/bubbles.png"
 
-## make test: the whole test suite, including every notebook in quick mode.
+## make test: the whole test suite, including every notebook in quick mode, on two workers
+## (pytest-xdist; each compiles what it needs into numba's shared on-disk cache).
 test: $(STAMP)
-	BUBBLEOPTICS_QUICK=1 $(PY) -m pytest -q
+	BUBBLEOPTICS_QUICK=1 $(PY) -m pytest -q -n 2
 
 ## make bench: the speed benchmarks (not part of the tests; results go to data/derived/).
 bench: $(STAMP)
@@ -30,6 +31,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/bandlimited_colour.py
 	$(PY) benchmarks/stability.py
 	$(PY) benchmarks/time_vs_error.py
+	$(PY) benchmarks/throughput.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
 paper: $(STAMP)
