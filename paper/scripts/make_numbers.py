@@ -552,8 +552,15 @@ def timeerror(dirs):
             nine = pick("spp", "9")
             out["TvENineSppAll"] = significant(nine["mean_de00"], 2)
             out["TvENineSppSpeedup"] = significant(nine["speedup_vs_reference"], 2)
+            out["TvEDepthOneInterior"] = significant(pick("depth", "1")["interior_mean_de00"], 2)
             out["TvEDepthThreeInterior"] = significant(pick("depth", "3")["interior_mean_de00"], 2)
             out["TvEDepthFourInterior"] = significant(pick("depth", "4")["interior_mean_de00"], 2)
+            # the prose: a cut branch keeps its light, so depth three is within half of depth ten's
+            # error, depth one visibly worse, and pruning at 0.1 within double the default's
+            ten = d["interior_mean_de00"]
+            if not (pick("depth", "3")["interior_mean_de00"] < 1.5 * ten < pick("depth", "1")["interior_mean_de00"]
+                    and pick("threshold", "0.1")["interior_mean_de00"] < 2.0 * ten):
+                raise ValueError("time_vs_error.csv: the paper's sentences on depth and pruning no longer hold")
             exhaustive = pick("threshold", "0")
             out["TvEPruningGain"] = significant(exhaustive["seconds"] / d["seconds"], 2)
             out["TvEThresholdTenthInterior"] = significant(pick("threshold", "0.1")["interior_mean_de00"], 2)
@@ -576,7 +583,7 @@ TIMEERROR_MACROS = (
     + [f"TvE{what}{w}" for what in ("Interior", "All", "Speedup", "RefSeconds", "DefaultMs", "InteriorFraction")
        for w in SCENE_WORDS.values()]
     + ["TvERgbInterior", "TvEEightBandsInterior", "TvESixteenBandAveragedInterior", "TvENineSppAll",
-       "TvENineSppSpeedup", "TvEDepthThreeInterior", "TvEDepthFourInterior", "TvEPruningGain",
+       "TvENineSppSpeedup", "TvEDepthOneInterior", "TvEDepthThreeInterior", "TvEDepthFourInterior", "TvEPruningGain",
        "TvEThresholdTenthInterior"]
 )
 
