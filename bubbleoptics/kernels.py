@@ -75,6 +75,15 @@ __all__ = [
     "POL_P",
     "POL_UNPOLARIZED",
     "N_FILM_COEFFICIENTS",
+    "FILM_KQ",
+    "FILM_Q1_TERM",
+    "FILM_G",
+    "FILM_S",
+    "FILM_P",
+    "FILM_PATH",
+    "PATH_REAL",
+    "PATH_COMPLEX",
+    "PATH_TOTAL_REFLECTION",
     "normal_wavevector_nb",
     "fresnel_interface_nb",
     "film_setup_nb",
@@ -102,8 +111,22 @@ POL_UNPOLARIZED = 2
 #: are treated as cos = 1e-150, where R = 1 - O(1e-150); this keeps every formula finite.
 COS_MIN = 1e-150
 
-#: Length of the coefficient tuple returned by :func:`film_setup_nb`.
+#: Length of the coefficient tuple returned by :func:`film_setup_nb`, and its entries: the phase
+#: rate 2 pi q1 / lambda (complex on the complex path), 1/q1 (real path) or n1^2 (complex
+#: path), 2 pi / lambda, the five s-polarized and the five p-polarized coefficients (from
+#: FILM_S and FILM_P: numerator cos and sin terms, denominator cos and sin terms, transmission
+#: factor), and the path taken (FILM_PATH, stored as a complex number like the rest: one of the
+#: PATH_* values).
 N_FILM_COEFFICIENTS = 14
+FILM_KQ = 0
+FILM_Q1_TERM = 1
+FILM_G = 2
+FILM_S = 3
+FILM_P = 8
+FILM_PATH = 13
+PATH_REAL = 0.0  # lossless media, every wave propagating: real arithmetic
+PATH_COMPLEX = 1.0  # an absorbing medium or an evanescent film
+PATH_TOTAL_REFLECTION = 2.0  # lossless media, evanescent inside medium: R = 1, T = 0
 
 # error_model="numpy": a float division never raises (our denominators are positive by
 # construction, and the property tests check no NaN appears); without it numba guards every
@@ -321,9 +344,12 @@ def film_setup_nb(wavelength, cos0, n0, n1, n2):
     n0 : float, real index of the outside medium.
     n1, n2 : complex, indices :math:`n+ik` of the film and of the inside medium.
 
-    Returns a tuple of :data:`N_FILM_COEFFICIENTS` complex numbers for :func:`film_evaluate_nb`.
-    Entry 13 is 0 for the real-arithmetic path (lossless media, every wave propagating), 1 for
-    the complex path, 2 for total reflection (lossless media, evanescent inside medium).  See the module docstring for the formulas.
+    Returns a tuple of :data:`N_FILM_COEFFICIENTS` complex numbers for :func:`film_evaluate_nb`
+    (entries named by the ``FILM_*`` constants).  Entry :data:`FILM_PATH` is
+    :data:`PATH_REAL` for the real-arithmetic path (lossless media, every wave propagating),
+    :data:`PATH_COMPLEX` for the complex path, :data:`PATH_TOTAL_REFLECTION` for total
+    reflection (lossless media, evanescent inside medium).  See the module docstring for the
+    formulas.
     """
     c0 = max(cos0, COS_MIN)
     q0 = n0 * c0
@@ -338,7 +364,7 @@ def film_setup_nb(wavelength, cos0, n0, n1, n2):
             # away, so R = 1 and T = 0 exactly.  (Evaluating the Airy form here loses |r| = 1
             # near the film's guided-mode resonances at grazing incidence, where its numerator
             # and denominator both vanish like q0.)
-            return (0j, 0j, complex(g, 0.0), 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 2.0 + 0j)
+            return (0j, 0j, complex(g, 0.0), 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, 0j, complex(PATH_TOTAL_REFLECTION, 0.0))
         z1 = _q_squared(n1r, n0, q0)
         if z1 >= 0.0:
             # lossless, every wave propagating: real arithmetic only
@@ -362,7 +388,7 @@ def film_setup_nb(wavelength, cos0, n0, n1, n2):
                 complex(c_p * c_p, 0.0),
                 complex((d_p * n1sq) ** 2, 0.0),
                 complex(4.0 * p0 * p2e, 0.0),
-                0j,
+                complex(PATH_REAL, 0.0),
             )
     q1 = normal_wavevector_nb(n1, n0, q0)
     q2 = normal_wavevector_nb(n2, n0, q0)
@@ -384,7 +410,7 @@ def film_setup_nb(wavelength, cos0, n0, n1, n2):
         c_p,
         d_p,
         complex(16.0 * p0.real * p2e.real, 0.0),
-        1.0 + 0j,
+        complex(PATH_COMPLEX, 0.0),
     )
 
 
@@ -412,8 +438,10 @@ def _real_rt(cos2, sig2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol):
 
 @njit(**_JIT)
 def _real_rt_c(c, cos2, sig2, pol):
-    return _real_rt(cos2, sig2, c[3].real, c[4].real, c[5].real, c[6].real, c[7].real,
-                    c[8].real, c[9].real, c[10].real, c[11].real, c[12].real, pol)
+    S = FILM_S
+    P = FILM_P
+    return _real_rt(cos2, sig2, c[S].real, c[S + 1].real, c[S + 2].real, c[S + 3].real, c[S + 4].real,
+                    c[P].real, c[P + 1].real, c[P + 2].real, c[P + 3].real, c[P + 4].real, pol)
 
 
 @njit(**_JIT)
@@ -423,11 +451,11 @@ def film_evaluate_nb(c, d, pol):
     *c* is the tuple (or a row of an array) from :func:`film_setup_nb`; *pol* is 0 (s), 1 (p) or
     2 (unpolarized: the mean of s and p).  Returns (R, T), both in [0, 1].
     """
-    flag = c[13].real
-    if flag == 2.0:
+    flag = c[FILM_PATH].real
+    if flag == PATH_TOTAL_REFLECTION:
         return 1.0, 0.0
-    if flag == 0.0:
-        beta = c[0].real * d
+    if flag == PATH_REAL:
+        beta = c[FILM_KQ].real * d
         if beta <= BETA_POLY_MAX:
             sn2, cs2 = sin2_cos2_nb(beta)
         else:
@@ -435,30 +463,30 @@ def film_evaluate_nb(c, d, pol):
             cb = math.cos(beta)
             sn2 = sb * sb
             cs2 = cb * cb
-        inv_q1 = c[1].real
+        inv_q1 = c[FILM_Q1_TERM].real
         if inv_q1 > 0.0:
             sig2 = sn2 * (inv_q1 * inv_q1)
         else:
             # q1 -> 0 (film at its critical angle): sigma = d (2 pi/lambda) sinc(beta)
             sinc2 = sn2 / (beta * beta) if beta > 1e-4 else _sinc(beta) ** 2
-            sig2 = (d * c[2].real) ** 2 * sinc2
+            sig2 = (d * c[FILM_G].real) ** 2 * sinc2
         return _real_rt_c(c, cs2, sig2, pol)
     R = 0.0
     T = 0.0
-    one_p_e, u, ex = _phase_terms(c[0], c[2].real, d)
+    one_p_e, u, ex = _phase_terms(c[FILM_KQ], c[FILM_G].real, d)
     if pol != POL_P:
-        num = c[3] * one_p_e + c[4] * u
-        den = c[5] * one_p_e + c[6] * u
+        num = c[FILM_S] * one_p_e + c[FILM_S + 1] * u
+        den = c[FILM_S + 2] * one_p_e + c[FILM_S + 3] * u
         dd = den.real * den.real + den.imag * den.imag
         R += (num.real * num.real + num.imag * num.imag) / dd
-        T += c[7].real * ex / dd
+        T += c[FILM_S + 4].real * ex / dd
     if pol != POL_S:
-        up = u * c[1]
-        num = c[8] * one_p_e + c[9] * up
-        den = c[10] * one_p_e + c[11] * up
+        up = u * c[FILM_Q1_TERM]
+        num = c[FILM_P] * one_p_e + c[FILM_P + 1] * up
+        den = c[FILM_P + 2] * one_p_e + c[FILM_P + 3] * up
         dd = den.real * den.real + den.imag * den.imag
         R += (num.real * num.real + num.imag * num.imag) / dd
-        T += c[12].real * ex / dd
+        T += c[FILM_P + 4].real * ex / dd
     if pol == POL_UNPOLARIZED:
         R *= 0.5
         T *= 0.5
@@ -664,7 +692,8 @@ def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
         j1 = min(j0 + _BLOCK, n_inner)
         row = coef[i]
         di = 0 if shared_d else i
-        fast = row[13].real == 0.0 and row[1].real > 0.0 and row[0].real * d_max[di] <= BETA_POLY_MAX
+        fast = (row[FILM_PATH].real == PATH_REAL and row[FILM_Q1_TERM].real > 0.0
+                and row[FILM_KQ].real * d_max[di] <= BETA_POLY_MAX)
         if fast:
             _lossless_row(row, d[di, j0:j1], pol, want_r, want_t,
                           out_r[i, j0:j1] if want_r else out_r[0, 0:0],
@@ -983,11 +1012,11 @@ def film_band_average_nb(c, kq_a, kq_b, d, pol):
     >>> round(R, 4), round(film_evaluate_nb(c, 20000.0, 2)[0], 4)  # band mean; the centre's value
     (0.0412, 0.0245)
     """
-    flag = c[13].real
-    if flag == 2.0:
+    flag = c[FILM_PATH].real
+    if flag == PATH_TOTAL_REFLECTION:
         return 1.0, 0.0
     inv_q1 = c[1].real
-    if flag != 0.0 or not inv_q1 > 0.0:
+    if flag != PATH_REAL or not inv_q1 > 0.0:
         return film_evaluate_nb(c, d, pol)
     beta1, two_h, _ = _band_phase(kq_a, kq_b, d)
     if not two_h > 0.0:
@@ -1199,12 +1228,12 @@ def film_band_moments_nb(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_
     for j in range(order + 1):
         out_r[j] = 0.0
         out_t[j] = 0.0
-    flag = c[13].real
-    if flag == 2.0:
+    flag = c[FILM_PATH].real
+    if flag == PATH_TOTAL_REFLECTION:
         out_r[0] = 1.0
         return
     inv_q1 = c[1].real
-    if flag != 0.0 or not inv_q1 > 0.0:
+    if flag != PATH_REAL or not inv_q1 > 0.0:
         kq0 = c[0].real
         nq = quad_x.shape[0]
         if nq == 0 or not kq0 > 0.0:
