@@ -99,7 +99,9 @@ class Bubble:
     center: tuple[float, float, float]
     radius: float
     film: FilmProfile = field(default_factory=FilmProfile)
-    n_film: float | str = "water"  # a constant index, or "water" (Daimon & Masumura 2007)
+    # a constant index, real or complex n + ik (k > 0: a dyed, absorbing film), or "water"
+    # (Daimon & Masumura 2007); the TOML and coursework formats give real indices
+    n_film: float | complex | str = "water"
     shininess: float = 200.0  # exponent of point-light highlights (weighted by R)
     name: str = "bubble"
 
