@@ -87,6 +87,7 @@ class Workspace(NamedTuple):
     stack_gen: np.ndarray  # (S,) generations
     stack_inside: np.ndarray  # (S,) int64: the sphere whose chord the ray runs along (-1: none)
     stack_chord: np.ndarray  # (S,) cos(theta) at the chord's start (its end meets it the same)
+    stack_skip: np.ndarray  # (S,) int64: the sphere the ray leaves outward (-1: none)
     w: np.ndarray  # (C,) the current ray's throughput
     wr: np.ndarray  # (C,) mirror child's weight (surfaces.scatter)
     wt: np.ndarray  # (C,) transmitted child's weight
@@ -121,7 +122,7 @@ def new_workspace(scene, depth):
     size = depth + 8
     return Workspace(
         np.empty((size, 3)), np.empty((size, 3)), np.empty((size, nc)), np.empty(size, dtype=np.int64),
-        np.empty(size, dtype=np.int64), np.empty(size),
+        np.empty(size, dtype=np.int64), np.empty(size), np.empty(size, dtype=np.int64),
         np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc),
         np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc),
         np.empty(_BVH_STACK, dtype=np.int64),
@@ -133,15 +134,18 @@ def new_workspace(scene, depth):
 
 
 @njit(**_INLINE)
-def closest_hit(scene, ws, o, d, tmin, tmax):
+def closest_hit(scene, ws, o, d, tmin, tmax, skip):
     """``(geometry kind, index, t, entering)`` of the nearest surface along o + t d with
-    tmin < t < tmax; kind :data:`GEOM_NONE` and t = tmax when there is none."""
+    tmin < t < tmax; kind :data:`GEOM_NONE` and t = tmax when there is none.  Sphere *skip*
+    (-1: none) is not tested: a ray leaving a sphere outward cannot meet it again."""
     best = tmax
     kind = GEOM_NONE
     idx = -1
     entering = True
     spheres = scene.spheres
     for i in range(spheres.shape[0]):
+        if i == skip:
+            continue
         s = spheres[i]
         c = s.center
         t, ent = intersect_sphere(o, d, (c[0], c[1], c[2]), s.radius, tmin, best)
@@ -196,11 +200,12 @@ def light_terms(lpos, p, nf, d):
     ln = math.sqrt(lx * lx + ly * ly + lz * lz)
     if not ln > 0.0:
         return 0.0, 0.0  # a light exactly on the surface lights nothing (and makes no NaN)
-    ndl = (lx * nf[0] + ly * nf[1] + lz * nf[2]) / ln
+    inv = 1.0 / ln
+    ndl = (lx * nf[0] + ly * nf[1] + lz * nf[2]) * inv
     if ndl <= 0.0:
         return ndl, 0.0
     rl = 2.0 * ndl
-    rv = -((rl * nf[0] - lx / ln) * d[0] + (rl * nf[1] - ly / ln) * d[1] + (rl * nf[2] - lz / ln) * d[2])
+    rv = -((rl * nf[0] - lx * inv) * d[0] + (rl * nf[1] - ly * inv) * d[1] + (rl * nf[2] - lz * inv) * d[2])
     return ndl, max(rv, 0.0)
 
 
@@ -219,7 +224,7 @@ def shadow_transmittance(scene, ws, p, lpos, trans):
     ws.counts[3] += 1
     tstart = 0.0
     for _ in range(MAX_SHADOW_CROSSINGS):
-        kind, idx, t, entering = closest_hit(scene, ws, p, d, tstart, dist)
+        kind, idx, t, entering = closest_hit(scene, ws, p, d, tstart, dist, -1)
         if kind == GEOM_NONE:
             return True
         skind, sidx, q, n = surface_at(scene, kind, idx, p, d, t)
@@ -237,7 +242,7 @@ def shadow_transmittance(scene, ws, p, lpos, trans):
 
 
 @njit(**_INLINE)
-def _push(ws, sp, o, d, w, gen, inside, chord):
+def _push(ws, sp, o, d, w, gen, inside, chord, skip):
     so = ws.stack_o
     sd = ws.stack_d
     sw = ws.stack_w
@@ -249,14 +254,16 @@ def _push(ws, sp, o, d, w, gen, inside, chord):
     ws.stack_gen[sp] = gen
     ws.stack_inside[sp] = inside
     ws.stack_chord[sp] = chord
+    ws.stack_skip[sp] = skip
     return sp + 1
 
 
 @njit(**_INLINE)
-def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, inside, chord):
+def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, inside, chord, skip):
     """Trace the child (origin *o*, direction *d*, throughput ``ws.w * weight``; running along a
-    chord of sphere *inside* met at cos *chord*, or *inside* = -1) or, if it is cut, end it
-    with the environment along *d* times *cut*.  Returns the stack pointer."""
+    chord of sphere *inside* met at cos *chord*, or *inside* = -1; leaving sphere *skip*
+    outward, or -1) or, if it is cut, end it with the environment along *d* times *cut*.
+    Returns the stack pointer."""
     child = ws.child
     w = ws.w
     m = 0.0
@@ -267,7 +274,7 @@ def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, 
         return sp  # no such lobe
     if gen < depth and (threshold <= 0.0 or m > threshold):
         ws.counts[counter] += 1
-        return _push(ws, sp, o, d, child, gen + 1, inside, chord)
+        return _push(ws, sp, o, d, child, gen + 1, inside, chord, skip)
     add_environment(scene, L, child, cut, d)
     return sp
 
@@ -295,7 +302,7 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
     for c in range(nc):
         L[c] = 0.0
         ws.child[c] = 1.0
-    sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0)
+    sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0, -1)
     first = True
     eps = scene.eps
     lights = scene.lights
@@ -306,13 +313,14 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
         gen = ws.stack_gen[sp]
         inside = ws.stack_inside[sp]
         chord = ws.stack_chord[sp]
+        skip = ws.stack_skip[sp]
         for c in range(nc):
             w[c] = stack_w[sp, c]  # the stack slot is reused by the children
         if first:
             kind, idx, t, entering = hit0
             first = False
         else:
-            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf)
+            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip)
         if kind == GEOM_NONE:
             add_environment(scene, L, w, ws.ones, d)
             continue
@@ -347,17 +355,24 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
         # one that ends up inside runs along a chord
         p_back = offset_origin(p, nf, -eps)
         refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
+        # (on a sphere the one that ends up outside leaves it for good: it need not be tested)
         t_inside = -1
         t_chord = 0.0
+        t_skip = -1
         r_inside = -1
+        r_skip = -1
         if on_sphere and entering:
             t_inside = idx
             t_chord = cos_i if (tdir[0] == d[0] and tdir[1] == d[1] and tdir[2] == d[2]) else \
                 abs(tdir[0] * n[0] + tdir[1] * n[1] + tdir[2] * n[2])
+            r_skip = idx
         elif on_sphere:
             r_inside = idx
-        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord)
-        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i)
+            t_skip = idx
+        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord,
+                    t_skip)
+        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i,
+                    r_skip)
 
 
 @njit(**_NO_NRT)
@@ -382,7 +397,7 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
             fx, fy = stratified_offset(seed, pix, s, spp)
             d0 = camera_ray(cam, x + fx, y + fy, width, height)
             ray_counts[0] += 1
-            hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf)
+            hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf, -1)
             if hit0[0] == GEOM_NONE:
                 # a camera ray that meets nothing: the environment, straight to RGB
                 er, eg, eb = environment_rgb(env, scene.env_image, d0)
