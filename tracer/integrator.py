@@ -27,12 +27,14 @@ child starts.  Pruned shadow rays drop their light (at most ``threshold`` each).
 Ray counts per row (``counts``): camera, reflected, transmitted, shadow
 (:data:`tracer.layout.RAY_COUNT_KINDS`).
 
-Speed: a camera ray that misses everything is resolved in the pixel loop itself (one
-intersection test and an environment lookup, converted to RGB by ``rgb_round_trip``), so
-empty parts of the image cost about what a minimal kernel costs; only rays that hit call
-:func:`trace_camera_ray`.  The helpers that touch the scene's arrays are inlined
-(``inline="always"``): passing an array to a non-inlined numba function costs a reference
-count increment and decrement (docs/performance.md).
+Speed (docs/performance.md): a camera ray that misses everything is resolved in the pixel
+loop itself (one intersection test and an environment lookup, converted to RGB by
+``rgb_round_trip``), so empty parts of the image cost about what a minimal kernel costs.  The
+per-ray code (:func:`render_row` and what it inlines) is compiled without numba's reference
+counting, and the helpers that take the scene or the workspace are inlined
+(``inline="always"``): a non-inlined call copies those tuples of arrays.  A ray that enters a
+sphere carries the cosine it entered with (chords meet both ends at one angle), which lets the
+films reuse their set-up along the path, and a ray that leaves a sphere outward skips it.
 """
 
 import math
@@ -41,10 +43,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from . import surfaces
-from .environment import environment_rgb
 from bubbleoptics.kernels import N_FILM_COEFFICIENTS
 
+from . import surfaces
+from .environment import environment_rgb
 from .geometry import intersect_bvh, intersect_sphere, offset_origin, sphere_hit_point
 from .sampling import camera_ray, stratified_offset
 
