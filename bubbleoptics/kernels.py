@@ -793,6 +793,20 @@ def srgb_encode_array(x, out):
 
 
 @njit(**_JIT_PARALLEL)
+def srgb_encode_quantized_array(x, levels, out):
+    """Linear light *x* (1-D) to integer sRGB codes 0..*levels* in *out* (an unsigned integer
+    array): NaN as 0, clipped to [0, 1], :func:`srgb_encode_nb`, times *levels*, rounded half to
+    even (as ``np.round``) -- what an 8-bit (255) or 16-bit (65535) image file stores."""
+    for i in prange(x.shape[0]):
+        v = x[i]
+        if not v > 0.0:  # also NaN
+            v = 0.0
+        elif v > 1.0:
+            v = 1.0
+        out[i] = np.rint(srgb_encode_nb(v) * levels)
+
+
+@njit(**_JIT_PARALLEL)
 def srgb_decode_array(v, out):
     """:func:`srgb_decode_nb` over 1-D arrays (NaN stays NaN)."""
     for i in prange(v.shape[0]):

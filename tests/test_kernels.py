@@ -142,3 +142,23 @@ def test_free_film_limits():
     R_p, T_p = free_film_evaluate_nb(free_film_setup_nb(500.0, brewster, 1.0, 1.5), 333.0, 1)
     assert R_p < 1e-30 and T_p == 1.0
     assert free_film_setup_nb(500.0, 0.2, 1.5, 1.2)[0] == -1.0
+
+
+@pytest.mark.reference
+@pytest.mark.parametrize("bits, dtype", [(8, np.uint8), (16, np.uint16)])
+def test_srgb_quantized_codes_equal_colour_science(bits, dtype):
+    """The image writer's codes (srgb_encode_quantized_array: clip, encode, round half to even)
+    equal NumPy's rounding of colour-science's sRGB encoding, code for code, NaN as 0."""
+    import colour
+
+    from bubbleoptics.kernels import srgb_encode_quantized_array
+
+    rng = np.random.default_rng(11)
+    x = np.concatenate([rng.uniform(-0.1, 1.1, 200000), rng.uniform(0, 0.004, 20000),
+                        [np.nan, -np.inf, np.inf, 0.0, 1.0, 0.0031308, 0.5]])
+    levels = 2**bits - 1
+    out = np.empty(x.size, dtype=dtype)
+    srgb_encode_quantized_array(x, float(levels), out)
+    clipped = np.clip(np.nan_to_num(x, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    expected = np.round(colour.cctf_encoding(clipped, function="sRGB") * levels).astype(dtype)
+    np.testing.assert_array_equal(out, expected)

@@ -182,9 +182,10 @@ def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=
 def save_image(image, path, *, bits=8):
     """Save a linear-RGB image: ``.png`` as sRGB-encoded 8- or 16-bit, ``.npy`` as float linear RGB.
 
-    PNG values are clipped to [0, 1] in linear light and encoded with the sRGB curve
-    (:func:`bubbleoptics.colorimetry.linear_srgb_to_srgb`); no other tone mapping.  The file is written atomically (a temporary file
-    in the same folder, then renamed), so a failed write leaves nothing behind.
+    PNG values are clipped to [0, 1] in linear light (NaN as 0), encoded with the sRGB curve
+    and rounded to the nearest code (:func:`bubbleoptics.kernels.srgb_encode_quantized_array`);
+    no other tone mapping.  The file is written atomically (a temporary file in the same
+    folder, then renamed), so a failed write leaves nothing behind.
     """
     path = Path(path)
     image = np.asarray(image, dtype=float)
@@ -202,22 +203,23 @@ def save_image(image, path, *, bits=8):
         raise ValueError(f"unsupported image type {path.suffix!r}: use .png or .npy")
     if bits not in (8, 16):
         raise ValueError(f"bits must be 8 or 16 (got {bits!r})")
-    from bubbleoptics.colorimetry import linear_srgb_to_srgb
+    from bubbleoptics.kernels import srgb_encode_quantized_array
 
-    encoded = linear_srgb_to_srgb(np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0))
+    levels = 255 if bits == 8 else 65535
+    data = np.empty(image.size, dtype=np.uint8 if bits == 8 else np.uint16)
+    srgb_encode_quantized_array(np.ascontiguousarray(image).ravel(), float(levels), data)
+    data = data.reshape(image.shape)
     if bits == 8:
         # Pillow directly (the writer imageio itself uses for PNG): imageio's plugin machinery
         # costs a fresh process a tenth of a second before the first write
         from PIL import Image
 
-        data = np.round(encoded * 255).astype(np.uint8)
         write_atomically(path, lambda tmp: Image.fromarray(data, mode="RGB").save(
             tmp, format="PNG", compress_level=PNG_COMPRESS_LEVEL))
     else:
         # Pillow has no 16-bit-per-channel RGB mode; pypng writes it
         import png
 
-        data = np.round(encoded * 65535).astype(np.uint16)
         h, w, _ = data.shape
 
         def write_png16(tmp):
