@@ -132,7 +132,7 @@ PATH_TOTAL_REFLECTION = 2.0  # lossless media, evanescent inside medium: R = 1, 
 # construction, and the property tests check no NaN appears); without it numba guards every
 # division with a branch, which stops LLVM from vectorizing the thickness loop (8x slower).
 _JIT = dict(cache=True, error_model="numpy")
-_JIT_INLINE = dict(inline="always", **_JIT)
+_JIT_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 _JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
 
 _TWO_PI = 2.0 * math.pi

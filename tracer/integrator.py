@@ -64,7 +64,7 @@ __all__ = [
 ]
 
 _JIT = dict(cache=True, error_model="numpy")
-_INLINE = dict(inline="always", **_JIT)
+_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 #: The per-ray functions are compiled without numba's reference counting (``_nrt=False``): they
 #: allocate nothing and only read arrays their caller keeps alive, and with it every read of an
 #: array field of the scene or the workspace costs a call to NRT_incref and NRT_decref, which

@@ -33,7 +33,7 @@ from .soap_film import film_scatter, film_shadow, film_toward_light
 
 __all__ = ["ambient", "toward_light", "scatter", "shadow"]
 
-_INLINE = dict(inline="always", cache=True, error_model="numpy")
+_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 
 
 @njit(**_INLINE)

@@ -28,7 +28,7 @@ from bubbleoptics.kernels import fresnel_interface_nb, normal_wavevector_nb
 __all__ = ["fresnel_unpolarized", "phong_ambient", "phong_scatter", "phong_toward_light", "phong_shadow"]
 
 _JIT = dict(cache=True, error_model="numpy")
-_INLINE = dict(inline="always", **_JIT)
+_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 
 
 @njit(**_JIT)

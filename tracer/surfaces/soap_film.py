@@ -56,7 +56,7 @@ from ..films import film_thickness
 __all__ = ["film_optics", "film_scatter", "film_toward_light", "film_shadow"]
 
 _JIT = dict(cache=True, error_model="numpy")
-_INLINE = dict(inline="always", **_JIT)
+_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 
 # A highlight lobe below this is not worth a shadow ray (and its logarithm).
 _SPEC_MIN = 1e-12
