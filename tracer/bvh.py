@@ -1,16 +1,26 @@
-"""Bounding-volume hierarchy over triangles: a NumPy builder and a numba traversal kernel.
+"""Bounding-volume hierarchy over triangles: a numba builder and a numba traversal kernel.
 
-Build (:func:`build_bvh`): binned surface-area heuristic, 12 bins per axis over the
-triangles' bounding-box centroids (Wald, "On fast Construction of SAH-based Bounding Volume
-Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007), leaves of at most 4 triangles.
-The tree is built breadth first, one whole level per step, with every node of the level binned
-by the same few NumPy calls (bin counts by ``bincount``, bin bounds by ``minimum.at``, split
-costs by prefix scans over the bins), so the Python overhead is per level, not per node:
-100k triangles take about 1.5 s.  When a node's centroids all coincide (duplicate
-triangles) no bin split exists and the node is split at the middle of its list.  From depth 32
-on every node is split at the object median of its longest centroid axis, so the depth stays
-below 32 + log2(T) even for adversarial inputs (SAH may peel off one triangle per level),
-and :data:`STACK_SIZE` = 64 entries always suffice for the traversal.
+Build (:func:`build_bvh`): binned surface-area heuristic (SAH), 12 bins per axis over the
+triangles' bounding-box centroids, leaves of at most 4 triangles (Wald, "On fast Construction of
+SAH-based Bounding Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007, §3:
+binning the centroids into equal bins over the node's centroid extent, and evaluating the
+:math:`3(K-1)` planes between the K bins with one sweep from each side).  The builder is one
+numba kernel (:func:`_build_nb`, ``cache=True``) working top down with an explicit stack, depth
+first: per node one pass over its triangles for the bins, one sweep over the bins, and an
+in-place partition of its slice of the triangle order, so a node costs O(its triangles) and the
+whole build O(T log T) time and O(T) memory, with no Python per node or per level.
+
+* When a node's centroids all coincide (duplicate triangles) no bin split exists and the node is
+  split at the middle of its list.
+* Below the 32 top levels every node is split at the object median of its longest centroid
+  axis, so the depth (root = 1) stays at most 33 + log2(T / 4) even for adversarial inputs
+  (SAH may peel off one triangle per level), and :data:`STACK_SIZE` = 64 entries always
+  suffice for the traversal (T < 2**30).
+* Every node with more than :data:`LEAF_SIZE` triangles is split (no SAH leaf test): the leaf
+  size is a bound the traversal may rely on.
+* Centroids are computed as ``0.5 lo + 0.5 hi`` (no overflow for coordinates near the largest
+  double); a bin split whose cost overflows to infinity is never chosen (the middle split is
+  used instead), so huge coordinates give a valid, if not SAH-optimal, tree.
 
 Traversal (:func:`intersect_bvh`, a numba kernel kept in :mod:`tracer.geometry` with the other
 per-ray kernels and re-exported here): depth first, near child first, with an explicit stack
@@ -22,6 +32,9 @@ of an origin lying exactly in a slab plane is ignored (comparisons with NaN are 
 running max/min keep their previous value: the ray counts as inside that slab, conservatively),
 and each far distance is widened by :math:`2\\gamma_3` so rounding never culls a box the ray
 touches.  Triangles are tested with the watertight kernel of :mod:`tracer.geometry`.
+
+The tests check the tree against a brute-force nearest hit over all triangles
+(``tests/test_geometry.py``), not against an earlier builder.
 """
 
 from __future__ import annotations
@@ -29,6 +42,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 from .geometry import STACK_SIZE, intersect_bvh
 
@@ -46,10 +60,11 @@ __all__ = [
 LEAF_SIZE = 4
 #: SAH bins per axis.
 N_BINS = 12
-#: Below this depth nodes are split at the object median (bounds the depth, see module doc).
+#: Nodes at depths 1 .. this (root = 1) are split by SAH, deeper ones at the object median.
 _SAH_MAX_DEPTH = 32
 
 _EPS = 2.0**-52
+_JIT = dict(cache=True, error_model="numpy")
 
 
 class BVH(NamedTuple):
@@ -74,6 +89,32 @@ class BVH(NamedTuple):
     tris: np.ndarray
 
 
+@njit(**_JIT)
+def _degenerate_nb(tris, out):
+    """``out[i]`` = triangle *i* has zero area (see :func:`degenerate_triangles`)."""
+    for i in range(tris.shape[0]):
+        e1x = tris[i, 1, 0] - tris[i, 0, 0]
+        e1y = tris[i, 1, 1] - tris[i, 0, 1]
+        e1z = tris[i, 1, 2] - tris[i, 0, 2]
+        e2x = tris[i, 2, 0] - tris[i, 0, 0]
+        e2y = tris[i, 2, 1] - tris[i, 0, 1]
+        e2z = tris[i, 2, 2] - tris[i, 0, 2]
+        e3x = tris[i, 2, 0] - tris[i, 1, 0]
+        e3y = tris[i, 2, 1] - tris[i, 1, 1]
+        e3z = tris[i, 2, 2] - tris[i, 1, 2]
+        cx = e1y * e2z - e1z * e2y
+        cy = e1z * e2x - e1x * e2z
+        cz = e1x * e2y - e1y * e2x
+        area2 = np.sqrt(cx * cx + cy * cy + cz * cz)
+        longest = np.sqrt(max(e1x * e1x + e1y * e1y + e1z * e1z, e2x * e2x + e2y * e2y + e2z * e2z,
+                              e3x * e3x + e3y * e3y + e3z * e3z))
+        size = 0.0
+        for k in range(3):
+            for a in range(3):
+                size = max(size, abs(tris[i, k, a]))
+        out[i] = not (area2 > 16.0 * _EPS * size * longest)
+
+
 def degenerate_triangles(tris):
     """Boolean mask of zero-area triangles: height :math:`\\le 16\\varepsilon\\max|x|`.
 
@@ -87,16 +128,12 @@ def degenerate_triangles(tris):
     sheared coordinates are rounded it may report a "hit" on the segment, with no defined normal.
     The one test of a zero-area face: the scene loaders skip the faces it flags, with a
     warning (:mod:`tracer.coursework_format`, :mod:`tracer.toml_scene`), and :func:`build_bvh`
-    collapses any left in a mesh built in code.
+    collapses any left in a mesh built in code.  One numba pass (no (T, 3) temporaries).
     """
-    tris = np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3)
-    e1 = tris[:, 1] - tris[:, 0]
-    e2 = tris[:, 2] - tris[:, 0]
-    e3 = tris[:, 2] - tris[:, 1]
-    area2 = np.linalg.norm(np.cross(e1, e2), axis=1)
-    longest = np.sqrt(np.max([(e * e).sum(axis=1) for e in (e1, e2, e3)], axis=0))
-    size = np.abs(tris).max(axis=(1, 2))
-    return ~(area2 > 16.0 * _EPS * size * longest)
+    tris = np.ascontiguousarray(np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3))
+    out = np.empty(tris.shape[0], dtype=np.bool_)
+    _degenerate_nb(tris, out)
+    return out
 
 
 def _empty_bvh():
@@ -113,39 +150,392 @@ def _empty_bvh():
     )
 
 
-def _half_area(lo, hi):
-    """Half the surface area of boxes [lo, hi] (last axis xyz); 0 for empty (inverted) boxes."""
-    e = np.maximum(hi - lo, 0.0)
-    return e[..., 0] * e[..., 1] + e[..., 1] * e[..., 2] + e[..., 2] * e[..., 0]
+@njit(**_JIT)
+def _half_area(x0, y0, z0, x1, y1, z1):
+    """Half the surface area of the box [x0, x1] x [y0, y1] x [z0, z1]; 0 for an empty one."""
+    ex = x1 - x0
+    ey = y1 - y0
+    ez = z1 - z0
+    if not ex > 0.0:  # (explicit tests: numba's min and max of floats cost more)
+        ex = 0.0
+    if not ey > 0.0:
+        ey = 0.0
+    if not ez > 0.0:
+        ez = 0.0
+    return ex * ey + ey * ez + ez * ex
+
+
+@njit(**_JIT)
+def _bin_of(c, cmin, scale, n_bins):
+    """Bin of centroid coordinate *c* among *n_bins* equal bins from *cmin* (``scale`` =
+    n_bins / extent)."""
+    b = int((c - cmin) * scale)
+    if b < 0:
+        return 0
+    if b >= n_bins:
+        return n_bins - 1
+    return b
+
+
+@njit(**_JIT)
+def _swap_rows(x, i, j):
+    for q in range(x.shape[1]):
+        t = x[i, q]
+        x[i, q] = x[j, q]
+        x[j, q] = t
+
+
+@njit(**_JIT)
+def _range_bounds(box, start, end, out):
+    """``out[0:6]`` = the box (lo xyz, hi xyz) of ``box[start:end]``'s triangle boxes,
+    ``out[6:12]`` = the box of their centres."""
+    for q in range(3):
+        out[q] = np.inf
+        out[3 + q] = -np.inf
+        out[6 + q] = np.inf
+        out[9 + q] = -np.inf
+    for k in range(start, end):
+        for q in range(3):
+            x = box[k, q]
+            if x < out[q]:
+                out[q] = x
+            x = box[k, 3 + q]
+            if x > out[3 + q]:
+                out[3 + q] = x
+            x = box[k, 6 + q]
+            if x < out[6 + q]:
+                out[6 + q] = x
+            if x > out[9 + q]:
+                out[9 + q] = x
+
+
+@njit(**_JIT)
+def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first, count):
+    """Build the tree into the preallocated arrays; returns ``(number of nodes, depth)``.
+
+    *box*: (T, 9) per triangle its box ``lo``, ``hi`` and the box centre (columns 0-2, 3-5,
+    6-8), permuted in place together with *order*, so that every pass over a node reads memory
+    in sequence; *order*: (T,) the identity on entry, the triangle order on exit; *bounds*
+    (2T - 1, 2, 3), *child* (2T - 1, 2) set to -1, *first*, *count* (2T - 1,) zero.  The depth
+    counts the root as 1.
+
+    A node is visited once after its parent wrote its box and its centres' box: the SAH split
+    gets both children's boxes from its bins (unions of the same triangle boxes) and their
+    centres' boxes while it partitions, so a node costs two passes over its triangles.
+    """
+    T = order.shape[0]
+    # pending nodes: (node, start, end, depth) and the centres' box; depth first, so at most
+    # one node per level waits
+    n_stack = 2 * STACK_SIZE + 8
+    stack_node = np.empty(n_stack, dtype=np.int64)
+    stack_start = np.empty(n_stack, dtype=np.int64)
+    stack_end = np.empty(n_stack, dtype=np.int64)
+    stack_depth = np.empty(n_stack, dtype=np.int64)
+    stack_cbox = np.empty((n_stack, 6))
+    bin_cnt = np.zeros((3, n_bins), dtype=np.int64)
+    bin_box = np.empty((3, n_bins, 6))  # per axis and bin: lo xyz, hi xyz
+    right_cnt = np.zeros(n_bins, dtype=np.int64)
+    right_area = np.zeros(n_bins)
+    left_box = np.empty(6)
+    right_box = np.empty(6)
+    lc_box = np.empty(6)
+    rc_box = np.empty(6)
+    half = np.empty(12)
+    keys = np.empty(T)
+    tmp_box = np.empty((T, 9))
+    tmp_order = np.empty(T, dtype=np.int64)
+
+    _range_bounds(box, 0, T, half)
+    for q in range(3):
+        bounds[0, 0, q] = half[q]
+        bounds[0, 1, q] = half[3 + q]
+    for q in range(6):
+        stack_cbox[0, q] = half[6 + q]
+    stack_node[0] = 0
+    stack_start[0] = 0
+    stack_end[0] = T
+    stack_depth[0] = 1
+    sp = 1
+    n_nodes = 1
+    max_depth = 1
+    while sp > 0:
+        sp -= 1
+        node = stack_node[sp]
+        start = stack_start[sp]
+        end = stack_end[sp]
+        depth = stack_depth[sp]
+        if depth > max_depth:
+            max_depth = depth
+        n = end - start
+        if n <= leaf_size:
+            first[node] = start
+            count[node] = n
+            continue
+        cmin = (stack_cbox[sp, 0], stack_cbox[sp, 1], stack_cbox[sp, 2])
+        ext = (stack_cbox[sp, 3] - cmin[0], stack_cbox[sp, 4] - cmin[1], stack_cbox[sp, 5] - cmin[2])
+        mid = -1  # no split found yet
+        if depth <= sah_max_depth:
+            # -- binned SAH
+            s0 = n_bins / ext[0] if ext[0] > 0.0 else 0.0
+            s1 = n_bins / ext[1] if ext[1] > 0.0 else 0.0
+            s2 = n_bins / ext[2] if ext[2] > 0.0 else 0.0
+            scale = (s0, s1, s2)
+            for a in range(3):
+                for b in range(n_bins):
+                    bin_cnt[a, b] = 0
+                    for q in range(3):
+                        bin_box[a, b, q] = np.inf
+                        bin_box[a, b, 3 + q] = -np.inf
+            for k in range(start, end):
+                for a in range(3):
+                    if scale[a] > 0.0:
+                        b = _bin_of(box[k, 6 + a], cmin[a], scale[a], n_bins)
+                        bin_cnt[a, b] += 1
+                        for q in range(3):
+                            x = box[k, q]
+                            if x < bin_box[a, b, q]:
+                                bin_box[a, b, q] = x
+                            x = box[k, 3 + q]
+                            if x > bin_box[a, b, 3 + q]:
+                                bin_box[a, b, 3 + q] = x
+            best_cost = np.inf
+            best_axis = -1
+            best_bin = -1
+            for a in range(3):
+                if not scale[a] > 0.0:
+                    continue
+                # sweep from the right: right_cnt[b], right_area[b] of bins b .. n_bins - 1
+                rc = 0
+                for q in range(3):
+                    right_box[q] = np.inf
+                    right_box[3 + q] = -np.inf
+                for b in range(n_bins - 1, 0, -1):
+                    rc += bin_cnt[a, b]
+                    for q in range(3):
+                        if bin_box[a, b, q] < right_box[q]:
+                            right_box[q] = bin_box[a, b, q]
+                        if bin_box[a, b, 3 + q] > right_box[3 + q]:
+                            right_box[3 + q] = bin_box[a, b, 3 + q]
+                    right_cnt[b] = rc
+                    right_area[b] = _half_area(right_box[0], right_box[1], right_box[2], right_box[3], right_box[4],
+                                               right_box[5])
+                # sweep from the left; the plane after bin b: left = bins 0..b, right = b+1..
+                lc = 0
+                for q in range(3):
+                    left_box[q] = np.inf
+                    left_box[3 + q] = -np.inf
+                for b in range(n_bins - 1):
+                    lc += bin_cnt[a, b]
+                    for q in range(3):
+                        if bin_box[a, b, q] < left_box[q]:
+                            left_box[q] = bin_box[a, b, q]
+                        if bin_box[a, b, 3 + q] > left_box[3 + q]:
+                            left_box[3 + q] = bin_box[a, b, 3 + q]
+                    r = right_cnt[b + 1]
+                    if lc == 0 or r == 0:
+                        continue
+                    cost = lc * _half_area(left_box[0], left_box[1], left_box[2], left_box[3], left_box[4],
+                                           left_box[5]) + r * right_area[b + 1]
+                    if cost < best_cost:  # never an overflowed (inf) or NaN cost
+                        best_cost = cost
+                        best_axis = a
+                        best_bin = b
+            if best_axis >= 0:
+                a = best_axis
+                # the children's boxes: unions of their bins
+                for q in range(3):
+                    left_box[q] = np.inf
+                    left_box[3 + q] = -np.inf
+                    right_box[q] = np.inf
+                    right_box[3 + q] = -np.inf
+                for b in range(n_bins):
+                    for q in range(3):
+                        x0 = bin_box[a, b, q]
+                        x1 = bin_box[a, b, 3 + q]
+                        if b <= best_bin:
+                            if x0 < left_box[q]:
+                                left_box[q] = x0
+                            if x1 > left_box[3 + q]:
+                                left_box[3 + q] = x1
+                        else:
+                            if x0 < right_box[q]:
+                                right_box[q] = x0
+                            if x1 > right_box[3 + q]:
+                                right_box[3 + q] = x1
+                # partition (bins <= best_bin to the left, by the same bin formula), and the
+                # children's centres' boxes on the way
+                lx0 = np.inf
+                ly0 = np.inf
+                lz0 = np.inf
+                lx1 = -np.inf
+                ly1 = -np.inf
+                lz1 = -np.inf
+                rx0 = np.inf
+                ry0 = np.inf
+                rz0 = np.inf
+                rx1 = -np.inf
+                ry1 = -np.inf
+                rz1 = -np.inf
+                ca = cmin[a]
+                sa = scale[a]
+                i0 = start
+                j0 = end - 1
+                while i0 <= j0:
+                    cx = box[i0, 6]
+                    cy = box[i0, 7]
+                    cz = box[i0, 8]
+                    if _bin_of(box[i0, 6 + a], ca, sa, n_bins) <= best_bin:
+                        if cx < lx0:
+                            lx0 = cx
+                        if cy < ly0:
+                            ly0 = cy
+                        if cz < lz0:
+                            lz0 = cz
+                        if cx > lx1:
+                            lx1 = cx
+                        if cy > ly1:
+                            ly1 = cy
+                        if cz > lz1:
+                            lz1 = cz
+                        i0 += 1
+                    else:
+                        if cx < rx0:
+                            rx0 = cx
+                        if cy < ry0:
+                            ry0 = cy
+                        if cz < rz0:
+                            rz0 = cz
+                        if cx > rx1:
+                            rx1 = cx
+                        if cy > ry1:
+                            ry1 = cy
+                        if cz > rz1:
+                            rz1 = cz
+                        _swap_rows(box, i0, j0)
+                        t = order[i0]
+                        order[i0] = order[j0]
+                        order[j0] = t
+                        j0 -= 1
+                lc_box[0] = lx0
+                lc_box[1] = ly0
+                lc_box[2] = lz0
+                lc_box[3] = lx1
+                lc_box[4] = ly1
+                lc_box[5] = lz1
+                rc_box[0] = rx0
+                rc_box[1] = ry0
+                rc_box[2] = rz0
+                rc_box[3] = rx1
+                rc_box[4] = ry1
+                rc_box[5] = rz1
+                mid = i0
+        else:
+            # -- object median on the longest centroid axis (bounds the depth)
+            a = 0
+            if ext[1] > ext[a]:
+                a = 1
+            if ext[2] > ext[a]:
+                a = 2
+            for k in range(start, end):
+                keys[k] = box[k, 6 + a]
+            perm = np.argsort(keys[start:end], kind="mergesort")
+            for k in range(n):
+                tmp_order[start + k] = order[start + perm[k]]
+                for q in range(9):
+                    tmp_box[start + k, q] = box[start + perm[k], q]
+            for k in range(start, end):
+                order[k] = tmp_order[k]
+                for q in range(9):
+                    box[k, q] = tmp_box[k, q]
+        if mid < 0:
+            # the middle of the list (the object median above, or no bin split: all centres
+            # equal); the children's boxes by one pass over each half
+            mid = start + n // 2
+            _range_bounds(box, start, mid, half)
+            for q in range(6):
+                left_box[q] = half[q]
+                lc_box[q] = half[6 + q]
+            _range_bounds(box, mid, end, half)
+            for q in range(6):
+                right_box[q] = half[q]
+                rc_box[q] = half[6 + q]
+        left = n_nodes
+        n_nodes += 2
+        child[node, 0] = left
+        child[node, 1] = left + 1
+        for q in range(3):
+            bounds[left, 0, q] = left_box[q]
+            bounds[left, 1, q] = left_box[3 + q]
+            bounds[left + 1, 0, q] = right_box[q]
+            bounds[left + 1, 1, q] = right_box[3 + q]
+        # the right child waits, the left one is built next
+        stack_node[sp] = left + 1
+        stack_start[sp] = mid
+        stack_end[sp] = end
+        stack_depth[sp] = depth + 1
+        for q in range(6):
+            stack_cbox[sp, q] = rc_box[q]
+        sp += 1
+        stack_node[sp] = left
+        stack_start[sp] = start
+        stack_end[sp] = mid
+        stack_depth[sp] = depth + 1
+        for q in range(6):
+            stack_cbox[sp, q] = lc_box[q]
+        sp += 1
+    return n_nodes, max_depth
+
+
+@njit(**_JIT)
+def _prepare_nb(tris, degenerate, box):
+    """Collapse the degenerate triangles (in place) and fill their boxes and box centres."""
+    for i in range(tris.shape[0]):
+        if degenerate[i]:
+            for k in range(1, 3):
+                for a in range(3):
+                    tris[i, k, a] = tris[i, 0, a]
+        for a in range(3):
+            x0 = min(tris[i, 0, a], tris[i, 1, a], tris[i, 2, a])
+            x1 = max(tris[i, 0, a], tris[i, 1, a], tris[i, 2, a])
+            box[i, a] = x0
+            box[i, 3 + a] = x1
+            box[i, 6 + a] = 0.5 * x0 + 0.5 * x1
+
+
+@njit(**_JIT)
+def _gather_nb(tris, order, out):
+    for k in range(order.shape[0]):
+        i = order[k]
+        for v in range(3):
+            for a in range(3):
+                out[k, v, a] = tris[i, v, a]
 
 
 def build_bvh(triangles, leaf_size=LEAF_SIZE, n_bins=N_BINS):
     """Build a BVH over ``triangles`` (T, 3, 3) float64 (vertex, xyz); see :class:`BVH`.
 
-    Binned SAH (module doc).  Each level: the node boxes are the union of their triangles'
-    boxes; a node with at most ``leaf_size`` triangles becomes a leaf; otherwise its triangle
-    centroids are binned along each axis into ``n_bins`` equal bins over the centroid extent,
-    and of the ``3 (n_bins - 1)`` planes between bins the one minimising
-    :math:`N_L A_L + N_R A_R` (triangle counts times box half-areas of the two sides; the
-    constant traversal cost and the parent's area do not change the choice) splits the node.
+    Binned SAH (module doc).  Per node: its box is the union of its triangles' boxes; a node
+    with at most ``leaf_size`` triangles becomes a leaf; otherwise its triangle centroids are
+    binned along each axis into ``n_bins`` equal bins over the centroid extent, and of the
+    ``3 (n_bins - 1)`` planes between bins the one minimising :math:`N_L A_L + N_R A_R`
+    (triangle counts times box half-areas of the two sides; the constant traversal cost and the
+    parent's area do not change the choice) splits the node.
     T = 0 gives a single empty leaf; non-finite vertices raise ``ValueError``.
     """
-    tris = np.array(triangles, dtype=np.float64)  # a copy
+    tris = np.array(triangles, dtype=np.float64, order="C")  # a copy (degenerate ones collapse)
     if tris.size == 0:
         return _empty_bvh()
     if tris.ndim != 3 or tris.shape[1:] != (3, 3):
         raise ValueError(f"build_bvh: triangles must have shape (T, 3, 3), got {tris.shape}")
-    if not np.all(np.isfinite(tris)):
+    if not np.isfinite(tris).all():
         raise ValueError("build_bvh: triangle vertices must be finite")
     if leaf_size < 1 or n_bins < 2:
         raise ValueError("build_bvh: need leaf_size >= 1 and n_bins >= 2")
     T = tris.shape[0]
-    deg = degenerate_triangles(tris)
-    tris[deg] = tris[deg, 0:1, :]
-
-    lo = tris.min(axis=1)
-    hi = tris.max(axis=1)
-    cent = 0.5 * (lo + hi)
+    if T >= 2**30:
+        raise ValueError(f"build_bvh: at most 2**30 triangles, got {T}")
+    box = np.empty((T, 9))
+    _prepare_nb(tris, degenerate_triangles(tris), box)
 
     max_nodes = 2 * T - 1  # every split makes two non-empty children
     bounds = np.empty((max_nodes, 2, 3))
@@ -153,110 +543,18 @@ def build_bvh(triangles, leaf_size=LEAF_SIZE, n_bins=N_BINS):
     first = np.zeros(max_nodes, dtype=np.int64)
     count = np.zeros(max_nodes, dtype=np.int64)
     order = np.arange(T, dtype=np.int64)
-
-    seg_node = np.zeros(1, dtype=np.int64)  # the nodes of the current level ...
-    seg_start = np.zeros(1, dtype=np.int64)  # ... own order[start : start + cnt]
-    seg_cnt = np.full(1, T, dtype=np.int64)
-    n_nodes = 1
-    level = 0
-    nb = int(n_bins)
-    while seg_node.size:
-        # -- boxes of all nodes of this level; small nodes become leaves
-        offs, seg_of, pos = _segments(seg_start, seg_cnt)
-        prim = order[pos]
-        bounds[seg_node, 0] = np.minimum.reduceat(lo[prim], offs, axis=0)
-        bounds[seg_node, 1] = np.maximum.reduceat(hi[prim], offs, axis=0)
-        leaf = seg_cnt <= leaf_size
-        first[seg_node[leaf]] = seg_start[leaf]
-        count[seg_node[leaf]] = seg_cnt[leaf]
-        inner = ~leaf
-        if not inner.any():
-            break
-        seg_node, seg_start, seg_cnt = seg_node[inner], seg_start[inner], seg_cnt[inner]
-        S = seg_node.size
-        offs, seg_of, pos = _segments(seg_start, seg_cnt)
-        prim = order[pos]
-        M = prim.size
-        c = cent[prim]
-        cmin = np.minimum.reduceat(c, offs, axis=0)
-        cmax = np.maximum.reduceat(c, offs, axis=0)
-        ext = cmax - cmin
-        rank = np.arange(M, dtype=np.int64) - offs[seg_of]
-
-        if level < _SAH_MAX_DEPTH:
-            # -- binned SAH, all nodes of the level at once
-            ext_p = ext[seg_of]
-            rel = np.divide(c - cmin[seg_of], ext_p, out=np.zeros_like(c), where=ext_p > 0)
-            b = np.clip(np.floor(rel * nb).astype(np.int64), 0, nb - 1)  # (M, 3)
-            key = (seg_of[:, None] * 3 + np.arange(3)) * nb + b  # (M, 3) flat (node, axis, bin)
-            n_keys = S * 3 * nb
-            cnt = np.bincount(key.ravel(), minlength=n_keys).reshape(S, 3, nb)
-            blo = np.full((n_keys, 3), np.inf)
-            bhi = np.full((n_keys, 3), -np.inf)
-            plo, phi = lo[prim], hi[prim]
-            for a in range(3):
-                np.minimum.at(blo, key[:, a], plo)
-                np.maximum.at(bhi, key[:, a], phi)
-            blo = blo.reshape(S, 3, nb, 3)
-            bhi = bhi.reshape(S, 3, nb, 3)
-            # left side = bins 0..i, right side = bins i+1..nb-1, for i = 0..nb-2
-            l_cnt = np.cumsum(cnt, axis=2)[:, :, :-1]
-            r_cnt = np.cumsum(cnt[:, :, ::-1], axis=2)[:, :, ::-1][:, :, 1:]
-            l_area = _half_area(
-                np.minimum.accumulate(blo, axis=2),
-                np.maximum.accumulate(bhi, axis=2),
-            )[:, :, :-1]
-            r_area = _half_area(
-                np.minimum.accumulate(blo[:, :, ::-1], axis=2)[:, :, ::-1],
-                np.maximum.accumulate(bhi[:, :, ::-1], axis=2)[:, :, ::-1],
-            )[:, :, 1:]
-            cost = np.where((l_cnt > 0) & (r_cnt > 0), l_cnt * l_area + r_cnt * r_area, np.inf)
-            cost = cost.reshape(S, 3 * (nb - 1))
-            best = np.argmin(cost, axis=1)
-            valid = np.isfinite(cost[np.arange(S), best])
-            best_axis = best // (nb - 1)
-            best_bin = best % (nb - 1)
-            right = b[np.arange(M), best_axis[seg_of]] > best_bin[seg_of]
-            # no bin split (all centroids equal): split the list in the middle
-            fallback = ~valid[seg_of]
-            right[fallback] = rank[fallback] >= (seg_cnt[seg_of[fallback]] // 2)
-        else:
-            # -- object median on the longest centroid axis (bounds the depth)
-            axis = np.argmax(ext, axis=1)
-            perm = np.lexsort((c[np.arange(M), axis[seg_of]], seg_of))
-            prim = prim[perm]
-            right = rank >= (seg_cnt[seg_of] // 2)
-
-        # -- partition each node's list (stable), create the children
-        perm = np.argsort(seg_of * 2 + right, kind="stable")
-        order[pos] = prim[perm]
-        n_left = np.bincount(seg_of, weights=~right, minlength=S).astype(np.int64)
-        left_id = n_nodes + 2 * np.arange(S, dtype=np.int64)
-        child[seg_node, 0] = left_id
-        child[seg_node, 1] = left_id + 1
-        n_nodes += 2 * S
-        seg_node = np.stack([left_id, left_id + 1], axis=1).ravel()
-        seg_start = np.stack([seg_start, seg_start + n_left], axis=1).ravel()
-        seg_cnt = np.stack([n_left, seg_cnt - n_left], axis=1).ravel()
-        level += 1
-
-    if level + 1 >= STACK_SIZE:  # cannot happen for T < 2**31 (module doc)
-        raise RuntimeError(f"build_bvh: tree depth {level} exceeds the traversal stack")
+    n_nodes, depth = _build_nb(box, int(leaf_size), int(n_bins), _SAH_MAX_DEPTH, order, bounds, child, first,
+                               count)
+    del box
+    if depth >= STACK_SIZE:  # cannot happen for T < 2**30 (module doc)
+        raise RuntimeError(f"build_bvh: tree depth {depth} exceeds the traversal stack")
+    out = np.empty_like(tris)
+    _gather_nb(tris, order, out)
     return BVH(
-        bounds=np.ascontiguousarray(bounds[:n_nodes]),
-        child=np.ascontiguousarray(child[:n_nodes]),
-        first=np.ascontiguousarray(first[:n_nodes]),
-        count=np.ascontiguousarray(count[:n_nodes]),
+        bounds=bounds[:n_nodes].copy(),
+        child=child[:n_nodes].copy(),
+        first=first[:n_nodes].copy(),
+        count=count[:n_nodes].copy(),
         order=order,
-        tris=np.ascontiguousarray(tris[order]),
+        tris=out,
     )
-
-
-def _segments(start, cnt):
-    """For contiguous ranges ``order[start_s : start_s + cnt_s]`` laid end to end: the offset
-    of each range in the concatenation, the range index of each element, and its position."""
-    offs = np.zeros(cnt.size, dtype=np.int64)
-    np.cumsum(cnt[:-1], out=offs[1:])
-    seg_of = np.repeat(np.arange(cnt.size, dtype=np.int64), cnt)
-    pos = np.repeat(start - offs, cnt) + np.arange(int(cnt.sum()), dtype=np.int64)
-    return offs, seg_of, pos
