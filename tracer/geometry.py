@@ -16,7 +16,10 @@ Sources
 * Spheres: Haines, Günther & Akenine-Möller, "Precision Improvements for Ray/Sphere
   Intersection", *Ray Tracing Gems* (2019), ch. 7; re-projection of the hit point onto the
   surface as in Pharr, Jakob & Humphreys, *Physically Based Rendering*, 3rd ed., §3.9.4.
-* Triangles: Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", *JCGT* 2(1), 2013.
+* Triangles: Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", *JCGT* 2(1), 2013;
+  smooth shading (:func:`shading_normal`): Phong's interpolated normals (Phong 1975), with a
+  fall-back to the geometric normal where the interpolated one would send a mirror ray into the
+  surface.
 * BVH traversal (:func:`intersect_bvh`; the tree is built by :func:`tracer.bvh.build_bvh`,
   which re-exports it): Ize, "Robust BVH Ray Traversal", *JCGT* 2(2), 2013.
 * Origin offsets: Pharr et al., §3.9.5 ("Robust spawned ray origins"), simplified to a single
@@ -34,6 +37,7 @@ __all__ = [
     "sphere_hit_point",
     "ray_shear",
     "intersect_triangle_sheared",
+    "shading_normal",
     "STACK_SIZE",
     "intersect_bvh",
     "ORIGIN_EPS_RELATIVE",
@@ -266,6 +270,73 @@ def intersect_triangle_sheared(o, kx, ky, kz, sx, sy, sz, v0, v1, v2, tmin, tmax
     if not (t > tmin and t < tmax):  # also rejects NaN
         return _INF, 0.0, 0.0
     return t, V * inv, W * inv
+
+
+@njit(**_JIT)
+def shading_normal(v0, v1, v2, n0, n1, n2, ng, p, d):
+    """Smooth-shading normal at *p* on the triangle (v0, v1, v2), for a ray with direction *d*.
+
+    The corner normals *n0*, *n1*, *n2* (unit, on the side of the unit geometric normal *ng*:
+    :func:`tracer.meshes.corner_normals`) are interpolated with the barycentric coordinates of
+    *p* (Phong, "Illumination for computer generated pictures", *CACM* 18(6), 1975),
+
+    .. math::  \\lambda_1 = \\frac{((p - v_0)\\times e_2)\\cdot n_g}{(e_1\\times e_2)\\cdot n_g},\\quad
+               \\lambda_2 = \\frac{(e_1\\times(p - v_0))\\cdot n_g}{(e_1\\times e_2)\\cdot n_g},\\quad
+               \\lambda_0 = 1 - \\lambda_1 - \\lambda_2,
+
+    clamped to the triangle (:math:`\\lambda_k \\ge 0`, summing to 1; *p* is ``o + t d``, a few
+    ulps off the plane), and normalised: :math:`n_s`.  It is returned only where it is
+    consistent with the geometry the ray sees; otherwise *ng* is returned (the fall-back to flat
+    shading at that point):
+
+    * the ray must arrive on the same side of both: :math:`\\operatorname{sign}(d\\cdot n_s) =
+      \\operatorname{sign}(d\\cdot n_g) \\ne 0`;
+    * the mirror direction :math:`r = d - 2(d\\cdot n_s)n_s` must leave on the incoming side of
+      the geometric plane: with :math:`n_f` = *ng* turned towards the ray,
+      :math:`r\\cdot n_f = d\\cdot n_f - 2 (d\\cdot n_s)(n_s\\cdot n_f) > 0`.
+
+    The interpolated normal can violate both near a silhouette, where the ray grazes the
+    geometric plane but the shading normal is tilted away from the ray; a mirror ray sent into
+    the surface would then start in front of it and hit it from behind.  (The side of the ray,
+    the ray-origin offset and "entering" stay the geometric normal's, in the integrator.)
+    Never NaN for finite input: a zero interpolated normal or a degenerate triangle gives *ng*.
+    """
+    dg = d[0] * ng[0] + d[1] * ng[1] + d[2] * ng[2]
+    if not (dg > 0.0 or dg < 0.0):
+        return ng
+    sg = -1.0 if dg > 0.0 else 1.0  # turns ng (and n_s) towards the ray
+    e1x = v1[0] - v0[0]
+    e1y = v1[1] - v0[1]
+    e1z = v1[2] - v0[2]
+    e2x = v2[0] - v0[0]
+    e2y = v2[1] - v0[1]
+    e2z = v2[2] - v0[2]
+    wx = p[0] - v0[0]
+    wy = p[1] - v0[1]
+    wz = p[2] - v0[2]
+    den = ((e1y * e2z - e1z * e2y) * ng[0] + (e1z * e2x - e1x * e2z) * ng[1]
+           + (e1x * e2y - e1y * e2x) * ng[2])
+    b1 = ((wy * e2z - wz * e2y) * ng[0] + (wz * e2x - wx * e2z) * ng[1] + (wx * e2y - wy * e2x) * ng[2]) / den
+    b2 = ((e1y * wz - e1z * wy) * ng[0] + (e1z * wx - e1x * wz) * ng[1] + (e1x * wy - e1y * wx) * ng[2]) / den
+    if not (b1 > 0.0):  # also NaN (den = 0)
+        b1 = 0.0
+    if not (b2 > 0.0):
+        b2 = 0.0
+    b0 = 1.0 - b1 - b2
+    if b0 < 0.0:
+        s = b1 + b2
+        b1 = b1 / s
+        b2 = b2 / s
+        b0 = 0.0
+    ns = normalize((b0 * n0[0] + b1 * n1[0] + b2 * n2[0], b0 * n0[1] + b1 * n1[1] + b2 * n2[1],
+                    b0 * n0[2] + b1 * n1[2] + b2 * n2[2]))
+    ds = sg * (d[0] * ns[0] + d[1] * ns[1] + d[2] * ns[2])  # d . n_s turned towards the ray
+    if not (ds < 0.0):  # also the zero normal
+        return ng
+    cos_sg = ns[0] * ng[0] + ns[1] * ng[1] + ns[2] * ng[2]
+    if not (sg * dg - 2.0 * ds * cos_sg > 0.0):
+        return ng
+    return ns
 
 
 # --------------------------------------------------------------------------------------------

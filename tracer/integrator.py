@@ -47,7 +47,7 @@ from bubbleoptics.kernels import N_FILM_COEFFICIENTS
 
 from . import surfaces
 from .environment import environment_rgb
-from .geometry import intersect_bvh, intersect_sphere, offset_origin, sphere_hit_point
+from .geometry import intersect_bvh, intersect_sphere, offset_origin, shading_normal, sphere_hit_point
 from .sampling import camera_ray, stratified_offset
 
 __all__ = [
@@ -166,7 +166,12 @@ def closest_hit(scene, ws, o, d, tmin, tmax, skip):
 @njit(**_INLINE)
 def surface_at(scene, kind, idx, o, d, t):
     """``(surface kind, surface index, point, outward unit normal)`` of a hit (sphere hit
-    points re-projected onto the sphere)."""
+    points re-projected onto the sphere).
+
+    On a triangle the normal is its geometric one, or with smooth shading
+    (``triangles[idx].smooth``) the interpolated vertex normal
+    (:func:`tracer.geometry.shading_normal`), which is on the same side of the ray as the
+    geometric one (:func:`offset_normal` gives that one for the ray origins)."""
     if kind == GEOM_SPHERE:
         s = scene.spheres[idx]
         c = s.center
@@ -175,7 +180,27 @@ def surface_at(scene, kind, idx, o, d, t):
     tri = scene.triangles[idx]
     nrm = tri.normal
     p = (o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2])
-    return tri.surface, tri.index, p, (nrm[0], nrm[1], nrm[2])
+    ng = (nrm[0], nrm[1], nrm[2])
+    if not tri.smooth:
+        return tri.surface, tri.index, p, ng
+    v = scene.tris
+    vn = tri.vertex_normals
+    n = shading_normal((v[idx, 0, 0], v[idx, 0, 1], v[idx, 0, 2]), (v[idx, 1, 0], v[idx, 1, 1], v[idx, 1, 2]),
+                       (v[idx, 2, 0], v[idx, 2, 1], v[idx, 2, 2]), (vn[0, 0], vn[0, 1], vn[0, 2]),
+                       (vn[1, 0], vn[1, 1], vn[1, 2]), (vn[2, 0], vn[2, 1], vn[2, 2]), ng, p, d)
+    return tri.surface, tri.index, p, n
+
+
+@njit(**_INLINE)
+def offset_normal(scene, kind, idx, nf, sgn):
+    """The unit normal, facing the incoming ray, along which the new rays of a hit start
+    (:func:`tracer.geometry.offset_origin`): *nf* (the facing normal from :func:`surface_at`
+    turned by *sgn*) on a sphere, the geometric normal turned by *sgn* on a triangle, so that
+    a smooth triangle's tilted shading normal never moves an origin off its side of the plane."""
+    if kind == GEOM_TRIANGLE:
+        g = scene.triangles[idx].normal
+        return (sgn * g[0], sgn * g[1], sgn * g[2])
+    return nf
 
 
 @njit(**_INLINE)
@@ -331,11 +356,12 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
         cos_g = abs(dn)  # geometric cos(theta), for directions
         sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
         nf = (sgn * n[0], sgn * n[1], sgn * n[2])
+        nfo = offset_normal(scene, kind, idx, nf, sgn)  # the geometric side, for ray origins
         on_sphere = kind == GEOM_SPHERE
         cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
         hit = (p, n, nf, d, cos_i, entering)
         tdir = surfaces.scatter(scene, ws, skind, sidx, hit)
-        p_front = offset_origin(p, nf, eps)
+        p_front = offset_origin(p, nfo, eps)
         # local terms: ambient and the point lights
         surfaces.ambient(scene, skind, sidx, w, L)
         for j in range(lights.shape[0]):
@@ -355,7 +381,7 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
                     L[c] += w[c] * light_w[c] * rad[j, c] * trans[c]
         # children: transmitted first (deeper in the stack), reflected on top; on a sphere the
         # one that ends up inside runs along a chord
-        p_back = offset_origin(p, nf, -eps)
+        p_back = offset_origin(p, nfo, -eps)
         refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
         # (on a sphere the one that ends up outside leaves it for good: it need not be tested)
         t_inside = -1

@@ -72,8 +72,12 @@ SPHERE = np.dtype([("center", *_V3), ("radius", np.float64), ("surface", np.int6
                   align=True)
 
 #: A triangle's surface (its vertices are ``PackedScene.tris``, in BVH order): the outward unit
-#: normal and the surface it carries.
-TRIANGLE = np.dtype([("normal", *_V3), ("surface", np.int64), ("index", np.int64)], align=True)
+#: normal (the geometric one: it decides which side a ray is on and where spawned rays start),
+#: the surface it carries, and for smooth shading (``smooth``) the unit normals at its three
+#: vertices, in the order of its vertices in ``tris``, each on the side of ``normal``
+#: (:func:`tracer.meshes.corner_normals`), interpolated by :func:`tracer.geometry.shading_normal`.
+TRIANGLE = np.dtype([("normal", *_V3), ("surface", np.int64), ("index", np.int64),
+                     ("vertex_normals", np.float64, (3, 3)), ("smooth", np.bool_)], align=True)
 
 #: The coursework's material (eq. 1.4 of its report); its colour is ``PackedScene.phong_color``.
 PHONG = np.dtype([("ambient", np.float64), ("diffuse", np.float64), ("specular", np.float64),

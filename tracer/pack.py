@@ -20,6 +20,7 @@ from . import layout as lay
 from .bvh import build_bvh
 from .geometry import origin_epsilon
 from .layout import PackedScene
+from .meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces
 from .scene import Scene
 
 __all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
@@ -73,6 +74,13 @@ def _unit(v):
     return v / n
 
 
+def _concatenate(parts, empty):
+    """``np.concatenate(parts)`` without a copy for one part."""
+    if not parts:
+        return empty
+    return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+
 def _perpendicular(up):
     ref = np.cross(up, [1.0, 0.0, 0.0])
     if np.linalg.norm(ref) < 1e-6:
@@ -80,18 +88,32 @@ def _perpendicular(up):
     return ref / np.linalg.norm(ref)
 
 
-def _convex_outward(vertices, faces, normals):
-    """Orient face normals away from the centroid when the mesh is convex (the coursework's rule);
-    otherwise keep the file's winding."""
-    centroid = vertices.mean(axis=0)
-    centres = vertices[faces].mean(axis=1)
-    side = np.einsum("ij,ij->i", normals, centres - centroid)
-    # convex: every vertex lies on the inner side of every face plane
-    offsets = np.einsum("ij,ij->i", normals, vertices[faces[:, 0]])
-    signed = vertices @ normals.T - offsets[None, :]
-    flip = np.where(side < 0, -1.0, 1.0)
-    convex = np.all(signed * flip[None, :] <= 1e-9 * (np.abs(vertices).max() + 1.0))
-    return normals * flip[:, None] if convex else normals
+def _mesh_triangles(mesh, material):
+    """A mesh's triangles (T, 3, 3) and their TRIANGLE records (unit normal oriented by the
+    coursework's rule, vertex normals for smooth shading), faces of zero area left out."""
+    v = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    f = np.ascontiguousarray(mesh.faces, dtype=np.int64)
+    if mesh.shading not in ("flat", "smooth"):
+        raise ValueError(f"mesh {mesh.name!r}: shading must be 'flat' or 'smooth' (got {mesh.shading!r})")
+    nrm, zero = face_normals(v, f)
+    if zero.any():
+        f, nrm = f[~zero], nrm[~zero]
+    flip, _ = orient_faces(v, f, nrm)
+    nrm[flip] *= -1.0
+    info = np.zeros(len(f), lay.TRIANGLE)
+    info["normal"] = nrm
+    info["surface"] = lay.SURFACE_PHONG
+    info["index"] = material
+    if mesh.shading == "smooth":
+        vn = mesh.normals
+        if vn is None:
+            vn = computed_vertex_normals(v, f, nrm)
+        elif np.shape(vn) != v.shape:
+            raise ValueError(f"mesh {mesh.name!r}: normals must have the shape of vertices {v.shape}"
+                             f" (got {np.shape(vn)})")
+        info["vertex_normals"] = corner_normals(vn, f, nrm)
+        info["smooth"] = True
+    return v[f], info
 
 
 SPECTRAL_METHODS = ("auto", "point", "band")
@@ -248,23 +270,15 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     # triangles of all meshes, one BVH
     tri_list, info_list = [], []
     for m in scene.meshes:
-        v = np.asarray(m.vertices, float)
-        f = np.asarray(m.faces, np.int64)
-        tri = v[f]
-        nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        length = np.linalg.norm(nrm, axis=1)
-        keep = length > 0
-        tri, nrm = tri[keep], nrm[keep] / length[keep, None]
-        nrm = _convex_outward(v, f[keep], nrm)
-        info = np.zeros(len(tri), lay.TRIANGLE)
-        info["normal"] = nrm
-        info["surface"] = lay.SURFACE_PHONG
-        info["index"] = material_id(m.material)
+        tri, info = _mesh_triangles(m, material_id(m.material))
         tri_list.append(tri)
         info_list.append(info)
-    tris = np.concatenate(tri_list) if tri_list else np.zeros((0, 3, 3))
-    triangles = np.concatenate(info_list) if info_list else np.zeros(0, lay.TRIANGLE)
-    bvh = build_bvh(tris)
+    tris = _concatenate(tri_list, np.zeros((0, 3, 3)))
+    triangles = _concatenate(info_list, np.zeros(0, lay.TRIANGLE))
+    del tri_list, info_list
+    max_tri_coordinate = max(float(tris.max()), -float(tris.min())) if len(tris) else 0.0
+    bvh = build_bvh(tris, overwrite=True)
+    del tris
     triangles = triangles[bvh.order] if len(triangles) else triangles
 
     phong = np.zeros(len(materials), lay.PHONG)
@@ -296,8 +310,8 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     coords = [np.abs(np.asarray(scene.camera.position, float)).max()]
     for s in list(scene.spheres) + list(scene.bubbles):
         coords.append(np.abs(np.asarray(s.center, float)).max() + s.radius)
-    if len(tris):
-        coords.append(np.abs(tris).max())
+    if len(triangles):
+        coords.append(max_tri_coordinate)
     eps = origin_epsilon(scene.scale(), max(coords))
 
     c = np.ascontiguousarray

@@ -108,12 +108,21 @@ class Bubble:
 
 @dataclass
 class Mesh:
-    """A triangle mesh: vertices (V, 3) and faces (F, 3) of 0-based vertex indices."""
+    """A triangle mesh: vertices (V, 3) and faces (F, 3) of 0-based vertex indices.
+
+    ``shading``: ``"flat"`` (each triangle shaded with its own plane's normal, the coursework's
+    model) or ``"smooth"`` (the normal interpolated from the vertex normals ``normals`` (V, 3),
+    or, when they are ``None``, from normals computed from the faces,
+    :func:`tracer.meshes.computed_vertex_normals`).  Face orientation follows the coursework's
+    rule (:mod:`tracer.meshes`).
+    """
 
     vertices: np.ndarray
     faces: np.ndarray
     material: Material = field(default_factory=Material)
     name: str = "mesh"
+    normals: np.ndarray | None = None
+    shading: str = "flat"
 
 
 @dataclass
