@@ -58,27 +58,64 @@ def load_film_map(full: Path) -> np.ndarray:
     return np.ascontiguousarray(table)
 
 
-def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) float64 and 0-based faces (F, 3) int64 of a mesh file, read by trimesh.
+def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Vertices (V, 3) float64, 0-based faces (F, 3) int64 and vertex normals (V, 3) float64 or
+    ``None`` of a mesh file, read by trimesh.
 
-    ``trimesh.load(path, force="mesh", process=False)``: vertices are neither merged nor
-    reordered, polygons are triangulated by trimesh.
+    ``trimesh.load_scene(path, process=False)``: vertices are neither merged nor reordered,
+    polygons are triangulated by trimesh.  Every triangle mesh of the file is taken, placed by
+    the file's own scene graph (a glTF node's transform; OBJ, PLY and STL have none), and
+    concatenated.  The normals are the file's own (OBJ ``vn``, PLY ``nx ny nz``) when every
+    mesh of the file has them, ``None`` otherwise.  (trimesh keeps the normals a file gave in a
+    mesh's cache, under ``"vertex_normals"``; that is how its own exporters tell them from
+    computed ones, and how they are told apart here.  ``trimesh.load(force="mesh")`` would drop
+    them.)  Nothing is copied that need not be: a 1M-triangle binary PLY is read into the
+    arrays trimesh makes.
     """
     try:
         import trimesh
     except ImportError:
         raise AssetError("reading mesh files needs the 'trimesh' package (pip install trimesh)") from None
     try:
-        mesh = trimesh.load(str(full), force="mesh", process=False)
+        loaded = trimesh.load_scene(str(full), process=False)
     except Exception as exc:  # trimesh raises many kinds for unreadable files
         raise AssetError(f"cannot read mesh '{full.name}': {exc}") from None
-    verts = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64).reshape(-1, 3)
-    faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64).reshape(-1, 3)
-    if len(faces) == 0:
+    parts = []
+    for node in loaded.graph.nodes_geometry:
+        matrix, name = loaded.graph[node]
+        geom = loaded.geometry.get(name)
+        if not isinstance(geom, trimesh.Trimesh) or len(geom.faces) == 0:
+            continue  # point clouds, paths, empty meshes
+        verts = np.asarray(geom.vertices, dtype=np.float64).reshape(-1, 3)
+        faces = np.asarray(geom.faces, dtype=np.int64).reshape(-1, 3)
+        normals = geom._cache["vertex_normals"] if "vertex_normals" in geom._cache else None
+        if normals is not None:
+            normals = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+            if normals.shape != verts.shape:
+                normals = None
+        matrix = np.asarray(matrix, dtype=np.float64)
+        if not np.array_equal(matrix, np.eye(4)):
+            rot = matrix[:3, :3]
+            verts = verts @ rot.T + matrix[:3, 3]
+            if normals is not None:
+                with np.errstate(all="ignore"):
+                    normals = normals @ np.linalg.inv(rot)  # the inverse transpose, row by row
+            if np.linalg.det(rot) < 0:
+                faces = faces[:, ::-1]  # a mirroring transform: keep the winding's meaning
+        parts.append((verts, faces, normals))
+    if not parts:
         raise AssetError(f"mesh '{full.name}' has no triangles")
-    if not np.all(np.isfinite(verts)):
+    if len(parts) == 1:
+        verts, faces, normals = parts[0]
+    else:
+        offsets = np.cumsum([0] + [len(p[0]) for p in parts[:-1]])
+        verts = np.concatenate([p[0] for p in parts])
+        faces = np.concatenate([p[1] + off for p, off in zip(parts, offsets)])
+        normals = np.concatenate([p[2] for p in parts]) if all(p[2] is not None for p in parts) else None
+    if not np.isfinite(verts).all():
         raise AssetError(f"mesh '{full.name}' has non-finite vertex coordinates")
-    return verts, faces
+    return np.ascontiguousarray(verts), np.ascontiguousarray(faces), \
+        (None if normals is None else np.ascontiguousarray(normals))
 
 
 def load_environment_image(full: Path) -> np.ndarray:

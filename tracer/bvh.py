@@ -241,9 +241,6 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
     lc_box = np.empty(6)
     rc_box = np.empty(6)
     half = np.empty(12)
-    keys = np.empty(T)
-    tmp_box = np.empty((T, 9))
-    tmp_order = np.empty(T, dtype=np.int64)
 
     _range_bounds(box, 0, T, half)
     for q in range(3):
@@ -287,17 +284,29 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
                         bin_box[a, b, q] = np.inf
                         bin_box[a, b, 3 + q] = -np.inf
             for k in range(start, end):
+                x0 = box[k, 0]
+                x1 = box[k, 1]
+                x2 = box[k, 2]
+                x3 = box[k, 3]
+                x4 = box[k, 4]
+                x5 = box[k, 5]
                 for a in range(3):
                     if scale[a] > 0.0:
                         b = _bin_of(box[k, 6 + a], cmin[a], scale[a], n_bins)
                         bin_cnt[a, b] += 1
-                        for q in range(3):
-                            x = box[k, q]
-                            if x < bin_box[a, b, q]:
-                                bin_box[a, b, q] = x
-                            x = box[k, 3 + q]
-                            if x > bin_box[a, b, 3 + q]:
-                                bin_box[a, b, 3 + q] = x
+                        # (selects, not branches: neighbouring triangles update the same bin)
+                        y = bin_box[a, b, 0]
+                        bin_box[a, b, 0] = x0 if x0 < y else y
+                        y = bin_box[a, b, 1]
+                        bin_box[a, b, 1] = x1 if x1 < y else y
+                        y = bin_box[a, b, 2]
+                        bin_box[a, b, 2] = x2 if x2 < y else y
+                        y = bin_box[a, b, 3]
+                        bin_box[a, b, 3] = x3 if x3 > y else y
+                        y = bin_box[a, b, 4]
+                        bin_box[a, b, 4] = x4 if x4 > y else y
+                        y = bin_box[a, b, 5]
+                        bin_box[a, b, 5] = x5 if x5 > y else y
             best_cost = np.inf
             best_axis = -1
             best_bin = -1
@@ -436,17 +445,16 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
                 a = 1
             if ext[2] > ext[a]:
                 a = 2
-            for k in range(start, end):
-                keys[k] = box[k, 6 + a]
-            perm = np.argsort(keys[start:end], kind="mergesort")
+            keys = np.empty(n)
             for k in range(n):
-                tmp_order[start + k] = order[start + perm[k]]
+                keys[k] = box[start + k, 6 + a]
+            perm = np.argsort(keys, kind="mergesort")
+            tmp_order = order[start:end].copy()
+            tmp_box = box[start:end].copy()
+            for k in range(n):
+                order[start + k] = tmp_order[perm[k]]
                 for q in range(9):
-                    tmp_box[start + k, q] = box[start + perm[k], q]
-            for k in range(start, end):
-                order[k] = tmp_order[k]
-                for q in range(9):
-                    box[k, q] = tmp_box[k, q]
+                    box[start + k, q] = tmp_box[perm[k], q]
         if mid < 0:
             # the middle of the list (the object median above, or no bin split: all centres
             # equal); the children's boxes by one pass over each half

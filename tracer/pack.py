@@ -20,7 +20,7 @@ from . import layout as lay
 from .bvh import build_bvh
 from .geometry import origin_epsilon
 from .layout import PackedScene
-from .meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces
+from .meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces, weld_vertices
 from .scene import Scene
 
 __all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
@@ -98,7 +98,8 @@ def _mesh_triangles(mesh, material):
     nrm, zero = face_normals(v, f)
     if zero.any():
         f, nrm = f[~zero], nrm[~zero]
-    flip, _ = orient_faces(v, f, nrm)
+    weld = weld_vertices(v)
+    flip, _ = orient_faces(v, f, nrm, weld)
     nrm[flip] *= -1.0
     info = np.zeros(len(f), lay.TRIANGLE)
     info["normal"] = nrm
@@ -107,7 +108,7 @@ def _mesh_triangles(mesh, material):
     if mesh.shading == "smooth":
         vn = mesh.normals
         if vn is None:
-            vn = computed_vertex_normals(v, f, nrm)
+            vn = computed_vertex_normals(v, f, nrm, weld)
         elif np.shape(vn) != v.shape:
             raise ValueError(f"mesh {mesh.name!r}: normals must have the shape of vertices {v.shape}"
                              f" (got {np.shape(vn)})")
@@ -279,7 +280,8 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     max_tri_coordinate = max(float(tris.max()), -float(tris.min())) if len(tris) else 0.0
     bvh = build_bvh(tris, overwrite=True)
     del tris
-    triangles = triangles[bvh.order] if len(triangles) else triangles
+    if len(triangles):  # reordered as raw rows (NumPy's gather of records is field by field)
+        triangles = triangles.view(np.uint8).reshape(len(triangles), -1)[bvh.order].view(lay.TRIANGLE).ravel()
 
     phong = np.zeros(len(materials), lay.PHONG)
     for i, m in enumerate(materials):

@@ -10,7 +10,8 @@ A scene file has these tables, all optional except that at least one object must
     [materials.NAME] color, ambient, diffuse, specular, transmission, shininess, ior
     [[spheres]]      name, center, radius, material
     [[bubbles]]      name, center, radius, n_film, shininess, and a [bubbles.film] table
-    [[meshes]]       name, path | vertices + faces (0-based), material, translate, scale
+    [[meshes]]       name, path | vertices + faces (0-based) [+ normals], material, translate,
+                     scale, shading
     [[lights]]       position, intensity, color
 
 Every key is checked: an unknown key (a typo) is an error naming it, as is a value of the wrong
@@ -550,14 +551,25 @@ def _film(c: _Ctx, kp, t) -> FilmProfile:
     return f
 
 
+#: ``[[meshes]] shading``: "auto" is smooth when the mesh has vertex normals (from its file or
+#: the inline ``normals``), flat otherwise.
+_SHADING = ("auto", "smooth", "flat")
+
+
 def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
-    c.keys(kp, t, {"name", "path", "vertices", "faces", "material", "translate", "scale"}, (), "[[meshes]]")
+    c.keys(kp, t, {"name", "path", "vertices", "faces", "normals", "material", "translate", "scale", "shading"},
+           (), "[[meshes]]")
     name = c.string(kp + ("name",), t["name"]) if "name" in t else "mesh"
+    shading = c.string(kp + ("shading",), t["shading"]) if "shading" in t else "auto"
+    if shading not in _SHADING:
+        raise c.bad(kp + ("shading",), f"must be one of {', '.join(map(repr, _SHADING))}, got {_short(shading)}")
+    normals = None
     if "path" in t:
-        for key in ("vertices", "faces"):
+        for key in ("vertices", "faces", "normals"):
             if key in t:
-                raise c.bad(kp + (key,), "give either 'path' or 'vertices' and 'faces', not both")
-        verts, faces = c.asset(kp + ("path",), load_mesh_file, c.file(kp + ("path",), t["path"]))
+                hint = " (a mesh file carries its own normals)" if key == "normals" else ""
+                raise c.bad(kp + (key,), f"give either 'path' or 'vertices' and 'faces', not both{hint}")
+        verts, faces, normals = c.asset(kp + ("path",), load_mesh_file, c.file(kp + ("path",), t["path"]))
         fkp = kp + ("path",)
     else:
         for key in ("vertices", "faces"):
@@ -582,18 +594,28 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
                                      f" (indices count from 0 in TOML)")
             rows.append(row)
         faces = np.array(rows, dtype=np.int64)
+        if "normals" in t:
+            nkp = kp + ("normals",)
+            ns = t["normals"]
+            if not isinstance(ns, list) or len(ns) != len(verts):
+                raise c.bad(nkp, f"must be an array of one [x, y, z] normal per vertex ({len(verts)}),"
+                                 f" got {_short(ns) if not isinstance(ns, list) else f'{len(ns)} entries'}")
+            normals = np.array([c.vec3(nkp, n, nonzero=True) for n in ns], dtype=np.float64)
     if "scale" in t:
         verts = verts * c.number(kp + ("scale",), t["scale"], 0.0, lo_open=True)
     if "translate" in t:
         verts = verts + np.array(c.vec3(kp + ("translate",), t["translate"]))
+    if shading == "auto":
+        shading = "smooth" if normals is not None else "flat"
     bad = degenerate_triangles(verts[faces])
     if bad.all():
         raise c.bad(fkp, f"the mesh has no usable face: all {len(faces)} have zero area")
     if bad.any():
         warnings.warn(f"{c.path}:{c.line(fkp)}: {_keyname(kp)}: {int(bad.sum())} zero-area face(s)"
                       " skipped", SceneWarning, stacklevel=3)
-    return Mesh(vertices=np.ascontiguousarray(verts), faces=np.ascontiguousarray(faces[~bad]),
-                material=_material_ref(c, kp, t, materials, name), name=name)
+        faces = faces[~bad]
+    return Mesh(vertices=np.ascontiguousarray(verts), faces=np.ascontiguousarray(faces),
+                material=_material_ref(c, kp, t, materials, name), name=name, normals=normals, shading=shading)
 
 
 def load_toml_scene(path) -> Scene:

@@ -91,8 +91,9 @@ def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header:
     and named relative to it; without ``toml_path`` such a scene raises ValueError.  Materials
     become ``[materials.NAME]`` tables named after ``Material.name`` (a second, different
     material under a name already used is written with its object, with its name); meshes are
-    written with their vertices and 0-based faces.  ``unit`` goes to ``[scene] unit``;
-    ``header`` (lines of text) becomes a leading comment.  A non-finite number is a ValueError.
+    written with their vertices, 0-based faces, vertex normals (if any) and shading.  ``unit``
+    goes to ``[scene] unit``; ``header`` (lines of text) becomes a leading comment.  A non-finite
+    number is a ValueError.
     """
     toml_path = Path(toml_path) if toml_path is not None else None
 
@@ -137,7 +138,9 @@ def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header:
                      "shininess": b.shininess, "film": _film_dict(b, i, save_array)}
                     for i, b in enumerate(scene.bubbles)],
         "meshes": [{"name": m.name, "material": mat_ref(m.material),
-                    "vertices": np.asarray(m.vertices, float), "faces": np.asarray(m.faces, int)}
+                    "vertices": np.asarray(m.vertices, float), "faces": np.asarray(m.faces, int),
+                    **({} if m.normals is None else {"normals": np.asarray(m.normals, float)}),
+                    "shading": m.shading}
                    for m in scene.meshes],
         "lights": [{"position": light.position, "intensity": light.intensity, "color": light.color}
                    for light in scene.lights],
