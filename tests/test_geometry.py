@@ -652,6 +652,92 @@ def test_bvh_scaled_and_shifted(s, shift):
     assert np.all(dist_err <= 1e-12 * dist + 16 * 2.2e-16 * shift / s / cos)
 
 
+def _adversarial(case, rng):
+    """Triangle sets that stress the builder (see test_bvh_adversarial_equals_brute_force)."""
+    if case == "duplicates":  # 3 triangles 300 times each, and a few others
+        base = rng.normal(size=(3, 3, 3))
+        return np.concatenate([np.tile(base, (300, 1, 1)), _soup(rng, 100)])
+    if case == "collinear":  # zero-area triangles (collinear, repeated vertices) among others
+        a, b = rng.normal(size=(2, 200, 1, 3))
+        s = rng.uniform(0, 1, (200, 3, 1))
+        lines = a + s * (b - a)
+        points = np.repeat(rng.normal(size=(100, 1, 3)), 3, axis=1)
+        return np.concatenate([lines, points, _soup(rng, 500)])
+    if case == "grid":  # axis-aligned triangles on an exact grid: many equal centre coordinates
+        g = np.stack(np.meshgrid(np.arange(12.0), np.arange(12.0), np.arange(6.0), indexing="ij"), -1).reshape(-1, 3)
+        tri = np.stack([g, g + [0.9, 0, 0], g + [0, 0.9, 0]], axis=1)
+        return (tri - 6.0) / 6.0
+    if case == "same centre":  # different triangles with one bounding-box centre: no bin split
+        ang = rng.uniform(0, np.pi, 400)
+        r = rng.uniform(0.1, 1, (400, 1))
+        u = np.stack([np.cos(ang), np.sin(ang), np.zeros(400)], axis=1) * r
+        w = np.array([0.0, 0.0, 1.0]) * r
+        return np.stack([u + w, -u + w, -w * 0 + u * 0 - w], axis=1)
+    if case == "peeling":  # sizes 16**-k at the origin: every other centre is in the largest
+        size = 16.0 ** -np.arange(100.0)  # one's first bin, so binned SAH can only peel it off
+        tri = np.zeros((100, 3, 3))
+        tri[:, 1, 0] = size
+        tri[:, 2, 1] = size
+        tri[:, :, 2] = rng.uniform(0.5, 1, (100, 1)) * size[:, None]
+        return tri
+    raise ValueError(case)
+
+
+@pytest.mark.reference
+@pytest.mark.parametrize("scale_", [1.0, 1e90, 1e-90])
+@pytest.mark.parametrize("case", ["duplicates", "collinear", "grid", "same centre"])
+def test_bvh_adversarial_equals_brute_force(case, scale_):
+    """Against the brute-force nearest hit over all (non-degenerate) triangles, at huge and tiny
+    coordinates too (1e±90: the triangle test's products of three coordinates stay finite and
+    normal): the same distance for every ray, and the tree's structure holds.  (Not the peeling
+    set, whose triangles down to 1e-120 are far below the rounding of a ray origin at distance
+    1: the triangle test may report a hit on a triangle whose box the ray misses by an ulp.)"""
+    rng = np.random.default_rng(len(case))
+    shift = 3.0 * scale_
+    tris = _adversarial(case, rng) * scale_ + shift
+    bvh = build_bvh(tris)
+    _check_structure(bvh, tris)
+    good = ~degenerate_triangles(tris)
+    assert (case == "collinear") == (not good.all())
+    # rays aimed at random points of random triangles, and random rays
+    k = rng.integers(0, len(tris), 700)
+    bary = rng.dirichlet(np.ones(3), 700)
+    target = np.einsum("ij,ijk->ik", bary, tris[k])
+    O = np.concatenate([target + _random_unit(rng, 700) * 2.0 * scale_, rng.uniform(-2, 2, (300, 3)) * scale_])
+    D = np.concatenate([target - O[:700], rng.normal(size=(300, 3))])
+    O[700:] += shift
+    t_b, i_b, _ = _bvh_batch(O, D, 0.0, INF, *bvh[:4], bvh.tris)
+    t_ref = _tri_matrix(O, D, tris[good], 0.0, INF).min(axis=1)
+    assert np.array_equal(t_b, t_ref)
+    assert np.isfinite(t_ref).mean() > 0.5
+    assert good[bvh.order[i_b[np.isfinite(t_b)]]].all()  # a degenerate triangle is never hit
+
+
+@pytest.mark.analytic
+def test_bvh_depth_is_bounded_where_sah_would_peel(monkeypatch):
+    """The peeling set makes a pure SAH tree one level per triangle (100), deeper than the
+    traversal stack; the object-median levels keep it below 33 + log2(T / 4)."""
+    import tracer.bvh as bvh_module
+
+    tris = _adversarial("peeling", np.random.default_rng(0))
+    bvh = build_bvh(tris)
+    _check_structure(bvh, tris)
+    monkeypatch.setattr(bvh_module, "_SAH_MAX_DEPTH", 10**6)
+    with pytest.raises(RuntimeError, match="exceeds the traversal stack"):
+        build_bvh(tris)
+
+
+@pytest.mark.api
+def test_bvh_overwrite_collapses_in_place_only_when_asked():
+    tris = np.array([[[0.0, 0, 0], [1, 1, 1], [2, 2, 2]], [[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]])
+    copy = tris.copy()
+    build_bvh(tris)
+    assert np.array_equal(tris, copy)  # not touched
+    b = build_bvh(tris, overwrite=True)
+    assert np.array_equal(tris[0], np.repeat(copy[0, :1], 3, axis=0)) and np.array_equal(tris[1], copy[1])
+    assert sorted(b.order.tolist()) == [0, 1]
+
+
 # --------------------------------------------------------------------------------------------
 # Spawned rays: no self-intersection, nothing obvious missed, at any scale and offset
 # --------------------------------------------------------------------------------------------

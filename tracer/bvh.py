@@ -39,6 +39,7 @@ The tests check the tree against a brute-force nearest hit over all triangles
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -93,26 +94,39 @@ class BVH(NamedTuple):
 def _degenerate_nb(tris, out):
     """``out[i]`` = triangle *i* has zero area (see :func:`degenerate_triangles`)."""
     for i in range(tris.shape[0]):
-        e1x = tris[i, 1, 0] - tris[i, 0, 0]
-        e1y = tris[i, 1, 1] - tris[i, 0, 1]
-        e1z = tris[i, 1, 2] - tris[i, 0, 2]
-        e2x = tris[i, 2, 0] - tris[i, 0, 0]
-        e2y = tris[i, 2, 1] - tris[i, 0, 1]
-        e2z = tris[i, 2, 2] - tris[i, 0, 2]
-        e3x = tris[i, 2, 0] - tris[i, 1, 0]
-        e3y = tris[i, 2, 1] - tris[i, 1, 1]
-        e3z = tris[i, 2, 2] - tris[i, 1, 2]
-        cx = e1y * e2z - e1z * e2y
-        cy = e1z * e2x - e1x * e2z
-        cz = e1x * e2y - e1y * e2x
-        area2 = np.sqrt(cx * cx + cy * cy + cz * cz)
-        longest = np.sqrt(max(e1x * e1x + e1y * e1y + e1z * e1z, e2x * e2x + e2y * e2y + e2z * e2z,
-                              e3x * e3x + e3y * e3y + e3z * e3z))
         size = 0.0
         for k in range(3):
             for a in range(3):
                 size = max(size, abs(tris[i, k, a]))
-        out[i] = not (area2 > 16.0 * _EPS * size * longest)
+        if not (size > 0.0):
+            out[i] = True
+            continue
+        e = math.frexp(size)[1]  # scale by 2**-e: exact, and no squares under- or overflow
+        x0 = math.ldexp(tris[i, 0, 0], -e)
+        y0 = math.ldexp(tris[i, 0, 1], -e)
+        z0 = math.ldexp(tris[i, 0, 2], -e)
+        x1 = math.ldexp(tris[i, 1, 0], -e)
+        y1 = math.ldexp(tris[i, 1, 1], -e)
+        z1 = math.ldexp(tris[i, 1, 2], -e)
+        x2 = math.ldexp(tris[i, 2, 0], -e)
+        y2 = math.ldexp(tris[i, 2, 1], -e)
+        z2 = math.ldexp(tris[i, 2, 2], -e)
+        e1x = x1 - x0
+        e1y = y1 - y0
+        e1z = z1 - z0
+        e2x = x2 - x0
+        e2y = y2 - y0
+        e2z = z2 - z0
+        e3x = x2 - x1
+        e3y = y2 - y1
+        e3z = z2 - z1
+        cx = e1y * e2z - e1z * e2y
+        cy = e1z * e2x - e1x * e2z
+        cz = e1x * e2y - e1y * e2x
+        area2 = math.sqrt(cx * cx + cy * cy + cz * cz)
+        longest = math.sqrt(max(e1x * e1x + e1y * e1y + e1z * e1z, e2x * e2x + e2y * e2y + e2z * e2z,
+                                e3x * e3x + e3y * e3y + e3z * e3z))
+        out[i] = not (area2 > 16.0 * _EPS * math.ldexp(size, -e) * longest)
 
 
 def degenerate_triangles(tris):
@@ -128,7 +142,9 @@ def degenerate_triangles(tris):
     sheared coordinates are rounded it may report a "hit" on the segment, with no defined normal.
     The one test of a zero-area face: the scene loaders skip the faces it flags, with a
     warning (:mod:`tracer.coursework_format`, :mod:`tracer.toml_scene`), and :func:`build_bvh`
-    collapses any left in a mesh built in code.  One numba pass (no (T, 3) temporaries).
+    collapses any left in a mesh built in code.  One numba pass (no (T, 3) temporaries); each
+    triangle is first scaled by the power of two nearest its size (exact), so the squares in
+    the test neither underflow (coordinates ~1e-150) nor overflow (~1e150).
     """
     tris = np.ascontiguousarray(np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3))
     out = np.empty(tris.shape[0], dtype=np.bool_)
@@ -226,7 +242,7 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
     T = order.shape[0]
     # pending nodes: (node, start, end, depth) and the centres' box; depth first, so at most
     # one node per level waits
-    n_stack = 2 * STACK_SIZE + 8
+    n_stack = min(sah_max_depth, T) + STACK_SIZE + 8  # > the depth bound (module doc)
     stack_node = np.empty(n_stack, dtype=np.int64)
     stack_start = np.empty(n_stack, dtype=np.int64)
     stack_end = np.empty(n_stack, dtype=np.int64)
