@@ -16,8 +16,9 @@ into a temporary folder, each named by a TOML scene as a user would write it
 Sizes about 10k, 100k and 1M triangles.  The mesh spans about 60 % of the image's height, lit
 by one point light, Phong material with a mirror term (so that reflected rays are traced), a
 constant environment.  Every (shape, size, repeat) runs in a fresh child process
-(``--child``): it first renders a small mesh scene so that numba's kernels are loaded from its
-cache (not timed), then times
+(``--child``): it first imports trimesh and renders a small mesh scene so that numba's kernels
+are loaded from its cache (neither timed: a process pays them once, whatever the mesh), then
+times
 
 * ``load``: ``tracer.load_scene`` of the TOML file (trimesh reads the PLY, zero-area check);
 * ``pack``: ``tracer.pack.pack_scene`` inside the render (orientation, vertex normals, BVH),
@@ -115,6 +116,8 @@ def child(toml, size, threads):
     from tracer.scene import Mesh, PointLight, Scene
 
     numba.set_num_threads(threads)
+    import trimesh  # noqa: F401  (imported by the first mesh file a process reads: 0.3-0.5 s, not timed)
+
     # load numba's kernels from the cache (a small mesh scene), not timed
     small = Scene(meshes=[Mesh(vertices=np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]),
                                faces=np.array([[0, 1, 2]]), shading="smooth")],

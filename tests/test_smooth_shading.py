@@ -303,3 +303,19 @@ def test_toml_normals_with_a_mesh_file_is_an_error(tmp_path):
     with pytest.raises(SceneError, match=r"bad\.toml:3: meshes\[0\]\.normals: give either 'path' or 'vertices'"
                                          r" and 'faces', not both \(a mesh file carries its own normals\)$"):
         load_toml_scene(path)
+
+
+@pytest.mark.api
+def test_a_mesh_file_with_a_face_out_of_range_is_a_one_line_error(tmp_path):
+    import trimesh
+
+    m = trimesh.Trimesh(np.eye(3), [[0, 1, 2]], process=False)
+    text = trimesh.exchange.ply.export_ply(m, encoding="ascii").decode()
+    assert "3 0 1 2" in text
+    (tmp_path / "bad.ply").write_text(text.replace("3 0 1 2", "3 0 1 7"))
+    path = tmp_path / "s.toml"
+    path.write_text('[[meshes]]\npath = "bad.ply"\n', encoding="utf-8")
+    with pytest.raises(SceneError) as info:
+        load_toml_scene(path)
+    assert str(info.value) == (f"{path}:2: meshes[0].path: mesh 'bad.ply' has a face naming vertex 7 (0-based),"
+                               " but there are 3 vertices")

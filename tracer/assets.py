@@ -114,6 +114,10 @@ def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | Non
         normals = np.concatenate([p[2] for p in parts]) if all(p[2] is not None for p in parts) else None
     if not np.isfinite(verts).all():
         raise AssetError(f"mesh '{full.name}' has non-finite vertex coordinates")
+    if faces.min() < 0 or faces.max() >= len(verts):
+        bad = int(faces.max() if faces.max() >= len(verts) else faces.min())
+        raise AssetError(f"mesh '{full.name}' has a face naming vertex {bad} (0-based), but there are"
+                         f" {len(verts)} vertices")
     return np.ascontiguousarray(verts), np.ascontiguousarray(faces), \
         (None if normals is None else np.ascontiguousarray(normals))
 
