@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench paper clean clean-cache
+.PHONY: demo test bench paper clean clean-cache activate
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -18,6 +18,10 @@ demo: $(STAMP)
 	$(PY) -m bubbleoptics.demo --out demo-output
 	$(PY) -m tracer image demo-output/bubbles.png
 	@echo "$(CURDIR)/demo-output/bubbles.png"
+
+## make activate: print the line that puts `tracer` (and the venv's python) on this shell's PATH.
+activate: $(STAMP)
+	@echo "source $(CURDIR)/$(VENV)/bin/activate"
 
 ## make test: the whole test suite, including every notebook in quick mode, on two workers
 ## (pytest-xdist; each compiles what it needs into numba's shared on-disk cache).

@@ -15,10 +15,9 @@ pinhole camera (vertical field of view 40 degrees), 256x256, box pixel filter in
 
 1. **Environment.**  A smooth procedural sky (gradient, ground, soft cells, seven Gaussian
    blobs 8-14 degrees wide), 1024x2048 float32 linear RGB, sampled at our texel centres.  Ours looks it up
-   at the nearest texel; Mitsuba's ``envmap`` interpolates bilinearly.  The two disagree on the
-   longitude convention: ours is u = (atan2(-z, x) + pi) / 2pi, Mitsuba's u = atan2(x, -z) / 2pi;
-   Mitsuba therefore gets the image mirrored left-right and ``to_world`` = rotation by +90
-   degrees about y (derivation in :func:`mitsuba_environment`).  Rows agree (v = theta / pi).
+   at the nearest texel; Mitsuba's ``envmap`` interpolates bilinearly.  Both use the same
+   longitude convention, u = atan2(x, -z) / 2pi, and rows v = theta / pi
+   (:func:`mitsuba_environment`).
 2. **Orientation check.**  An empty view and a mirror sphere (which shows nearly the whole
    sphere of directions) rendered by both; the RMSE between them, and the same with three wrong
    orientations to show that the check can fail.
@@ -185,20 +184,19 @@ def our_scene(kind, image, camera=None):
 def mitsuba_environment(mi, image, folder, orientation="matched"):
     """Write the image for Mitsuba as EXR; return the ``envmap`` dict.
 
-    Mitsuba's envmap maps a local direction v to u = atan2(v_x, -v_z) / 2 pi, v = acos(v_y) / pi
-    (row 0 at +y, as ours).  Ours is u = atan2(d_z, -d_x) / 2 pi (mod 1).  Mirroring the image
-    left-right turns Mitsuba's u into 1 - u = atan2(-v_x, -v_z) / 2 pi, which equals ours when
-    v = (-d_z, d_y, d_x): a proper rotation, world-to-local; its inverse, ``to_world``, is the
-    rotation by +90 degrees about y.  Both renderers put texel centres at (j + 1/2) / width in
-    u; in v Mitsuba places row i at i / (height - 1) (ours: (i + 1/2) / height), at most half a
-    texel (0.09 degrees) apart, at the poles.
+    Both renderers map a direction d to u = atan2(d_x, -d_z) / 2 pi (mod 1), v = acos(d_y) / pi
+    (row 0 at +y): ours adopted Mitsuba's ``envmap`` convention (tracer.environment;
+    tests/test_environment.py renders one environment in both), so the matched orientation is
+    the image as it is, with no rotation.  Both put texel centres at (j + 1/2) / width in u; in
+    v Mitsuba places row i at i / (height - 1) (ours: (i + 1/2) / height), at most half a texel
+    (0.09 degrees) apart, at the poles.
 
     *orientation*: ``"matched"``, or one of the wrong ones of the orientation check:
-    ``"unmirrored"`` (same rotation, image not mirrored), ``"unrotated"`` (mirrored, no
-    rotation), ``"rotated_-90"`` (mirrored, rotated the other way).
+    ``"mirrored"`` (the image mirrored left-right: the convention this tracer had before
+    issue 9), ``"rotated_90"`` and ``"rotated_-90"`` (rotated about y).
     """
-    mirrored = orientation != "unmirrored"
-    angle = {"matched": 90.0, "unmirrored": 90.0, "unrotated": 0.0, "rotated_-90": -90.0}[orientation]
+    mirrored = orientation == "mirrored"
+    angle = {"matched": 0.0, "mirrored": 0.0, "rotated_90": 90.0, "rotated_-90": -90.0}[orientation]
     data = np.ascontiguousarray(image[:, ::-1] if mirrored else image, dtype=np.float32)
     path = Path(folder) / f"environment_{'mirrored' if mirrored else 'plain'}.exr"
     if not path.exists():
@@ -325,7 +323,7 @@ def timed_batch(render, seed, n):
 def orientation_check(mi, image, folder, size, spp_mitsuba, spp_ours):
     """RMSE between the two renderers for the empty view and the mirror sphere, per orientation."""
     results = {}
-    for orientation in ("matched", "unmirrored", "unrotated", "rotated_-90"):
+    for orientation in ("matched", "mirrored", "rotated_90", "rotated_-90"):
         envmap = mitsuba_environment(mi, image, folder, orientation)
         for kind in ("empty", "mirror"):
             ours = render_ours(our_scene(kind, image), spp_ours, SEED_SWEEP, size)[0]

@@ -33,8 +33,11 @@ def write_atomically(path, write):
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, os.path.join(folder, name))
-    except BaseException:
+    except BaseException as exc:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and exc.filename == tmp:
+            # name the file the caller asked for, not the temporary one
+            raise OSError(exc.errno, f"cannot write {path}: {exc.strerror}") from None
         raise
     return path

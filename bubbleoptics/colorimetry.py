@@ -28,6 +28,7 @@ from .kernels import srgb_decode_array, srgb_encode_array
 __all__ = [
     "DEFAULT_OBSERVER",
     "DEFAULT_WAVELENGTHS_NM",
+    "MAX_BANDS",
     "spectral_weights",
     "band_spectral_weights",
     "rgb_reflectance_basis",
@@ -46,6 +47,9 @@ DEFAULT_OBSERVER = "CIE 1931 2 Degree Standard Observer"
 
 #: colour-science's default spectral shape (360-780 nm at 1 nm): the "1 nm reference".
 DEFAULT_WAVELENGTHS_NM = np.arange(360.0, 781.0, 1.0)
+#: The most bands :func:`band_spectral_weights` and :func:`rgb_reflectance_basis` make of
+#: 360-780 nm: 421, one per 1 nm table sample (narrower bands would hold no sample).
+MAX_BANDS = DEFAULT_WAVELENGTHS_NM.size
 
 _DEFAULT_GRID = tuple(DEFAULT_WAVELENGTHS_NM.tolist())
 
@@ -153,6 +157,15 @@ def spectral_weights(wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER
     return _weights_cached(tuple(wl.tolist()), illuminant, observer)
 
 
+def _check_bands(n_bands, lo_nm, hi_nm):
+    """*n_bands* as an int: at least 1, and at most one band per 1 nm table sample in [lo, hi]."""
+    samples = int(np.count_nonzero((DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)))
+    if isinstance(n_bands, bool) or int(n_bands) != n_bands or not 1 <= n_bands <= max(samples, 1):
+        raise ValueError(f"n_bands must be an integer from 1 to {samples} (one band per 1 nm table sample "
+                         f"of {lo_nm:g}-{hi_nm:g} nm at most), got {n_bands!r}")
+    return int(n_bands)
+
+
 def band_spectral_weights(n_bands, illuminant="D65", observer=DEFAULT_OBSERVER, lo_nm=360.0, hi_nm=780.0):
     """Centres (N,) and XYZ weights (3, N) of *n_bands* equal wavelength bands over [lo, hi] nm.
 
@@ -168,9 +181,7 @@ def band_spectral_weights(n_bands, illuminant="D65", observer=DEFAULT_OBSERVER, 
     >>> wl.shape, W.shape, round(float(W[1].sum()), 12)  # a perfect reflector still has Y = 1
     ((16,), (3, 16), 1.0)
     """
-    if int(n_bands) != n_bands or n_bands < 1:
-        raise ValueError(f"n_bands must be a positive integer (got {n_bands!r})")
-    n_bands = int(n_bands)
+    n_bands = _check_bands(n_bands, lo_nm, hi_nm)
     fine = DEFAULT_WAVELENGTHS_NM[(DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)]
     w_fine = spectral_weights(DEFAULT_WAVELENGTHS_NM, illuminant, observer)
     w_fine = w_fine[:, (DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)]
@@ -203,6 +214,7 @@ def rgb_reflectance_basis(n_bands, lo_nm=360.0, hi_nm=780.0):
     >>> basis.shape, bool(abs(basis.sum(axis=1) - 1).max() < 1e-5)  # white stays flat
     ((16, 3), True)
     """
+    n_bands = _check_bands(n_bands, lo_nm, hi_nm)
     inside_range = (DEFAULT_WAVELENGTHS_NM >= lo_nm) & (DEFAULT_WAVELENGTHS_NM <= hi_nm)
     fine = DEFAULT_WAVELENGTHS_NM[inside_range]
     b = colour_tables()["rgb_basis_mallett2019"][inside_range]

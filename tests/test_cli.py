@@ -111,7 +111,7 @@ BAD_SEED = {
     "coefficient above 1": (LISTING_3_2, 5, "0.4 0.1 0 1.5", "kt = 1.5 is outside [0, 1]"),
     "negative coefficient in the bubble": (LISTING_3_2, 14, "0.1 -0.4 0 1", "kd = -0.4 is outside [0, 1]"),
     "inner coefficient above 1": (LISTING_3_2, 21, "0 0 0.5 2", "inner coefficient kt = 2 is outside [0, 1]"),
-    "zero refraction index": (LISTING_3_2, 7, "0", "refraction index must be positive"),
+    "zero refraction index": (LISTING_3_2, 7, "0", "refraction index must be > 0 and <= 100"),
     "negative dispersion": (LISTING_3_2, 8, "-1", "dispersion must be >= 0"),
     "face names a missing vertex": (LISTING_3_1, 9, "f 1 2 5", "names vertex 5, but the object has 4 vertices"),
     "vertex with two coordinates": (LISTING_3_1, 2, "v 500.0 300.0", "expected 3 numbers (x y z)"),

@@ -319,3 +319,21 @@ def test_a_mesh_file_with_a_face_out_of_range_is_a_one_line_error(tmp_path):
         load_toml_scene(path)
     assert str(info.value) == (f"{path}:2: meshes[0].path: mesh 'bad.ply' has a face naming vertex 7 (0-based),"
                                " but there are 3 vertices")
+
+
+@pytest.mark.api
+def test_mesh_coordinates_beyond_the_limit_are_one_line_errors(tmp_path):
+    (tmp_path / "far.obj").write_text("v 0 0 0\nv 2e15 0 0\nv 0 1 0\nf 1 2 3\n")
+    (tmp_path / "near.obj").write_text("v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n")
+    far = tmp_path / "far.toml"
+    far.write_text('[[meshes]]\npath = "far.obj"\n', encoding="utf-8")
+    with pytest.raises(SceneError) as info:
+        load_toml_scene(far)
+    assert str(info.value) == (f"{far}:2: meshes[0].path: mesh 'far.obj' has a vertex coordinate of magnitude"
+                               " 2e+15, beyond 1e+15 (tracer.limits)")
+    scaled = tmp_path / "scaled.toml"
+    scaled.write_text('[[meshes]]\npath = "near.obj"\nscale = 1e15\n', encoding="utf-8")
+    with pytest.raises(SceneError) as info:
+        load_toml_scene(scaled)
+    assert str(info.value) == (f"{scaled}:3: meshes[0].scale: the mesh's vertices reach 2e+15, beyond 1e+15"
+                               " (tracer.limits)")

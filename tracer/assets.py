@@ -18,6 +18,8 @@ import numpy as np
 
 from bubbleoptics.colorimetry import srgb_to_linear_srgb
 
+from .limits import MAX_MAGNITUDE
+
 __all__ = ["AssetError", "IMAGE_SUFFIXES", "load_environment_image", "load_film_map", "load_mesh_file"]
 
 #: Image files an ``[environment] kind = "image"`` may name, and what reads them.
@@ -114,6 +116,10 @@ def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | Non
         normals = np.concatenate([p[2] for p in parts]) if all(p[2] is not None for p in parts) else None
     if not np.isfinite(verts).all():
         raise AssetError(f"mesh '{full.name}' has non-finite vertex coordinates")
+    largest = max(float(verts.max()), -float(verts.min()))
+    if largest > MAX_MAGNITUDE:
+        raise AssetError(f"mesh '{full.name}' has a vertex coordinate of magnitude {largest:g}, beyond"
+                         f" {MAX_MAGNITUDE:g} (tracer.limits)")
     if faces.min() < 0 or faces.max() >= len(verts):
         bad = int(faces.max() if faces.max() >= len(verts) else faces.min())
         raise AssetError(f"mesh '{full.name}' has a face naming vertex {bad} (0-based), but there are"

@@ -35,69 +35,95 @@ def _rgb(text):
     return tuple(values)
 
 
-def _number_type(convert, accept, expected, expected_value=None):
-    """An argparse type: *convert* the text (else "expected *expected*"), then require
-    *accept*(value) (else "expected *expected_value*", by default the same words)."""
+def _setting_type(key):
+    """An argparse type for the limited render setting *key* (:mod:`tracer.limits`): ASCII
+    decimal text (``1e3`` is accepted for an integer setting when integral), within the limits."""
+    from .limits import LimitError, check_setting, describe
 
     def parse(text):
+        value = None
+        if text.isascii():
+            for convert in ((float,) if key == "threshold" else (int, float)):
+                try:
+                    value = convert(text)
+                    break
+                except (ValueError, OverflowError):
+                    continue
         try:
-            value = convert(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
-        if not accept(value):
-            raise argparse.ArgumentTypeError(f"expected {expected_value or expected}, got {text!r}")
-        return value
+            return check_setting(key, text if value is None else value)
+        except LimitError:
+            shown = text if len(text) <= 40 else text[:37] + "..."
+            raise argparse.ArgumentTypeError(f"must be {describe(key)}, got {shown!r}") from None
 
     return parse
 
 
-_positive_int = _number_type(int, lambda v: v >= 1, "a positive integer")
-_nonnegative_int = _number_type(int, lambda v: v >= 0, "an integer >= 0")
-_threshold = _number_type(float, lambda v: v >= 0 and v < float("inf"), "a number >= 0", "a finite number >= 0")
-
-
 #: Options whose default comes from a TOML scene's [render] table when it has one, else DEFAULTS.
-_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method")
+_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method", "depth")
+#: What the command line calls each render setting, in error messages.
+_OPTION_NAMES = {k: "--" + k.replace("_", "-") for k in _SCENE_DEFAULTED}
 
 
 def _add_render_options(p):
     # default None means "not given": resolved after the scene is read (_resolve_settings)
-    p.add_argument("--width", type=_positive_int, help="image width in pixels")
-    p.add_argument("--height", type=_positive_int, help="image height in pixels")
-    p.add_argument("--spp", type=_positive_int, help="samples per pixel (stratified)")
-    p.add_argument("--threshold", type=_threshold,
-                   help="prune child rays whose throughput is at most this (0: the coursework's exhaustive tree)")
-    p.add_argument("--spectral-samples", type=_positive_int,
-                   help="wavelength bands for spectral transport (scenes with bubbles)")
+    from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH
+
+    def span(key):
+        return f"{LIMITS[key][0]}-{LIMITS[key][1]}"
+
+    p.add_argument("--width", type=_setting_type("width"), help=f"image width in pixels ({span('width')})")
+    p.add_argument("--height", type=_setting_type("height"), help=f"image height in pixels ({span('height')})")
+    p.add_argument("--spp", type=_setting_type("spp"), help=f"samples per pixel, stratified ({span('spp')})")
+    p.add_argument("--threshold", type=_setting_type("threshold"),
+                   help="prune child rays whose throughput is at most this (0: the coursework's exhaustive tree, "
+                        f"depth at most {MAX_EXHAUSTIVE_DEPTH})")
+    p.add_argument("--spectral-samples", type=_setting_type("spectral_samples"),
+                   help=f"wavelength bands for spectral transport, scenes with bubbles ({span('spectral_samples')})")
     p.add_argument("--spectral-method", choices=("auto", "point", "band"),
                    help="bubble films at the band centres (point), averaged over each band (band), or "
                         "band only where a film is thick enough to alias (auto, the default)")
-    p.add_argument("--seed", type=_nonnegative_int, help="random seed for sample positions")
+    p.add_argument("--seed", type=_setting_type("seed"), help="random seed for sample positions (0 to 2^63-1)")
     p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
                    help="replace the environment by this constant linear-RGB colour")
     p.add_argument("--bits", type=int, choices=(8, 16), default=8, help="PNG bit depth")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
+def _version():
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("bubbleoptics")
+    except PackageNotFoundError:  # run from a source tree that is not installed
+        return "unknown (not installed)"
+
+
 def build_parser():
+    from .limits import LIMITS
     from .render import DEFAULTS
 
     epilog = ("Render options not given take their value from a TOML scene's [render] table, else the "
               f"defaults: {', '.join(f'{k}={v}' for k, v in DEFAULTS.items())}.")
     parser = _Parser(prog="tracer", description="A spectral Whitted ray tracer for soap-bubble scenes.",
                      epilog=epilog)
+    parser.add_argument("--version", action="version", version=f"%(prog)s (bubbleoptics) {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     img = sub.add_parser("image", help="render a scene to an image (.png, or .npy linear float)",
                          description="Render SCENE (or the built-in bubble scene) to OUT.", epilog=epilog)
-    img.add_argument("paths", nargs="+", metavar="[SCENE] OUT", help="scene file (optional) and output image")
-    img.add_argument("--depth", type=_positive_int, help="maximum ray generation")
+    img.add_argument("paths", nargs="+", metavar="[SCENE] OUT",
+                     help="scene file (TOML or the coursework's text format; the built-in scene when left out) "
+                          "and output image (.png, or .npy linear float)")
+    img.add_argument("--depth", type=_setting_type("depth"),
+                     help=f"maximum ray generation, 1 = camera rays only ({LIMITS['depth'][0]}-{LIMITS['depth'][1]})")
     _add_render_options(img)
     res = sub.add_parser("research", help="render at a trace depth and report the time and ray counts",
                          description="Render SCENE to OUT at trace depth DEPTH; print the render time "
                                      "(compilation excluded) and the rays traced by kind.", epilog=epilog)
-    res.add_argument("scene", metavar="SCENE")
-    res.add_argument("out", metavar="OUT")
-    res.add_argument("depth", type=_positive_int, metavar="DEPTH")
+    res.add_argument("scene", metavar="SCENE", help="scene file: TOML (.toml) or the coursework's text format")
+    res.add_argument("out", metavar="OUT", help="output image (.png, or .npy linear float)")
+    res.add_argument("depth", type=_setting_type("depth"), metavar="DEPTH",
+                     help=f"trace depth, the coursework's: maximum ray generation ({LIMITS['depth'][0]}-"
+                          f"{LIMITS['depth'][1]})")
     res.add_argument("--json", action="store_true", help="print one JSON object")
     _add_render_options(res)
     return parser
@@ -109,11 +135,22 @@ def _fail(message):
 
 
 def _check_output(out):
+    """*out* as a Path if an image can be written there (checked before rendering), else ValueError."""
+    import tempfile
+
     out = Path(out)
     if out.suffix.lower() not in (".png", ".npy"):
         raise ValueError(f"{out}: output must end in .png or .npy")
-    if not out.parent.exists() or not out.parent.is_dir():
-        raise ValueError(f"{out}: folder {out.parent} does not exist")
+    folder = out.parent
+    if not folder.is_dir():
+        raise ValueError(f"{out}: folder {folder} does not exist")
+    if out.is_dir():
+        raise ValueError(f"{out}: is a folder, not a file name")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=f".{out.name}.", suffix=".probe"):
+            pass
+    except OSError as err:
+        raise ValueError(f"{out}: cannot write in folder {folder} ({err.strerror or err})") from None
     return out
 
 
@@ -135,23 +172,29 @@ def _load_scene(path):
 
 
 def _resolve_settings(args, scene):
-    """An option given on the command line, else the scene's [render] table (TOML), else DEFAULTS."""
-    from .render import DEFAULTS
+    """An option given on the command line, else the scene's [render] table (TOML), else
+    DEFAULTS; checked against tracer.limits (errors name the option)."""
+    from .render import resolve_settings
 
-    settings = dict(DEFAULTS)
-    settings.update(scene.render_defaults)
-    for key in _SCENE_DEFAULTED + (("depth",) if args.command == "image" else ()):
-        if getattr(args, key) is not None:
-            settings[key] = getattr(args, key)
+    given = {key: getattr(args, key, None) for key in _SCENE_DEFAULTED}
+    names = dict(_OPTION_NAMES)
     if args.command == "research":
-        settings["depth"] = args.depth
-    return settings
+        names["depth"] = "DEPTH"
+    return resolve_settings(scene, names=names, **given)
+
+
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, the shells' convention
 
 
 def main(argv=None):
-    """Run the command line; returns the exit status (0, or 2 for bad input)."""
+    """Run the command line; returns the exit status (0; 2 for bad input; 130 on Ctrl-C)."""
     try:
         return _main(argv)
+    except KeyboardInterrupt:
+        # Ctrl-C: the render stops at its next ray; no output file was written (images are
+        # written atomically, and a temporary file is removed when its write is interrupted)
+        print("tracer: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except BrokenPipeError:
         # stdout closed early (e.g. piped into `head`): no traceback; Python's documented idiom
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -182,12 +225,8 @@ def _main(argv=None):
             from .scene import Environment
 
             scene.environment = Environment(kind="constant", color=args.background)
-        s = _resolve_settings(args, scene)
-        image, stats = render_with_stats(
-            scene, width=s["width"], height=s["height"], depth=s["depth"], spp=s["spp"], threshold=s["threshold"],
-            spectral_samples=s["spectral_samples"], seed=s["seed"], spectral_method=s["spectral_method"],
-            progress=False if args.quiet else None,
-        )
+        s = _resolve_settings(args, scene)  # every limit and the memory estimate, before any work
+        image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None)
         save_image(image, out, bits=args.bits)
     except SceneError as err:
         return _fail(str(err))

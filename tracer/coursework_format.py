@@ -34,6 +34,7 @@ from bubbleoptics.colorimetry import srgb_to_linear_srgb
 
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
+from .limits import MAX_INDEX, MAX_MAGNITUDE
 from .scene import (
     COURSEWORK_NM_PER_UNIT,
     Bubble,
@@ -53,8 +54,10 @@ __all__ = ["load_coursework_scene", "parse_coursework_text", "srgb8_to_linear", 
 #: A bubble's inner centre may differ from its outer centre by at most this times the outer radius.
 CONCENTRIC_RTOL = 1e-9
 
-_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
-_INTEGER = re.compile(r"[+-]?\d+")
+# ASCII digits only: Python's \d also matches other scripts' digits ("١٠٠", "３００"), which
+# float() and int() would accept
+_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
+_INTEGER = re.compile(r"[+-]?\d+", re.ASCII)
 _NON_FINITE = {"nan", "inf", "infinity"}
 
 _KINDS = {"s": "sphere", "b": "bubble", "t": "triangulated object", "l": "light", "1": "light"}
@@ -64,6 +67,11 @@ def srgb8_to_linear(rgb) -> tuple[float, float, float]:
     """Decode 8-bit sRGB components (0-255) to linear RGB in [0, 1] (IEC 61966-2-1,
     :func:`bubbleoptics.colorimetry.srgb_to_linear_srgb`)."""
     return tuple(srgb_to_linear_srgb(np.asarray(rgb, dtype=float) / 255.0).tolist())
+
+
+def _short(text: str, limit: int = 40) -> str:
+    """*text* for an error message: cut to *limit* characters (a 400-digit token is not echoed)."""
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 class _Reader:
@@ -79,11 +87,14 @@ class _Reader:
         if _NUMBER.fullmatch(token):
             value = float(token)
             if not math.isfinite(value):
-                raise self.error(line, f"{what}: {token} is too large (not a finite number)")
+                raise self.error(line, f"{what}: {_short(token)} is too large (not a finite number)")
+            if abs(value) > MAX_MAGNITUDE:
+                raise self.error(line, f"{what}: {_short(token)} is outside -{MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g} "
+                                       "(tracer.limits)")
             return value
         if token.lower().lstrip("+-") in _NON_FINITE:
             raise self.error(line, f"{what} is {token}: it must be a finite number")
-        raise self.error(line, f"{what}: '{token}' is not a number")
+        raise self.error(line, f"{what}: '{_short(token)}' is not a number")
 
     def numbers(self, line, fields, names, what):
         if len(fields) != len(names):
@@ -91,14 +102,16 @@ class _Reader:
                 line,
                 f"{what}: expected {len(names)} number{'s' if len(names) > 1 else ''}"
                 f" ({' '.join(names)}), found {len(fields)} field{'s' if len(fields) != 1 else ''}"
-                + (f" '{' '.join(fields)}'" if fields else ""),
+                + (f" '{_short(' '.join(fields), 60)}'" if fields else ""),
             )
         return [self.number(line, tok, f"{what} ({name})" if len(names) > 1 else what)
                 for tok, name in zip(fields, names)]
 
     def integer(self, line, token, what):
         if not _INTEGER.fullmatch(token):
-            raise self.error(line, f"{what}: '{token}' is not an integer")
+            raise self.error(line, f"{what}: '{_short(token)}' is not an integer")
+        if len(token.lstrip("+-")) > 30:  # beyond every range here (and int() refuses 4300+ digits)
+            raise self.error(line, f"{what}: {_short(token)} is too large")
         return int(token)
 
 
@@ -130,7 +143,7 @@ class _Block:
             line, text = self.lines[self.pos]
             raise self.r.error(
                 line,
-                f"unexpected line '{text.strip()}' after the end of {self.label}"
+                f"unexpected line '{_short(text.strip(), 60)}' after the end of {self.label}"
                 " (blocks must be separated by a blank line)",
             )
 
@@ -160,10 +173,10 @@ class _Block:
         rgb = []
         for tok, ch in zip(fields, "RGB"):
             if _NUMBER.fullmatch(tok) and not _INTEGER.fullmatch(tok):
-                raise self.r.error(line, f"{what} ({ch}): '{tok}' is not an integer 0-255")
+                raise self.r.error(line, f"{what} ({ch}): '{_short(tok)}' is not an integer 0-255")
             v = self.r.integer(line, tok, f"{what} ({ch})")
             if not 0 <= v <= 255:
-                raise self.r.error(line, f"{what} ({ch}) = {v} is outside 0-255")
+                raise self.r.error(line, f"{what} ({ch}) = {_short(str(v))} is outside 0-255")
             rgb.append(v)
 
         line, fields = self.take(f"{pre}material coefficients (ka kd ks kt)")
@@ -176,8 +189,9 @@ class _Block:
         if exponent < 0:
             raise self.r.error(exp_line, f"{self.label}: {pre}specular exponent must be >= 0, got {exponent:g}")
         line, index = self.scalar(f"{pre}refraction index")
-        if not index > 0:
-            raise self.r.error(line, f"{self.label}: {pre}refraction index must be positive, got {index:g}")
+        if not 0 < index <= MAX_INDEX:
+            raise self.r.error(line, f"{self.label}: {pre}refraction index must be > 0 and <= {MAX_INDEX:g}, "
+                                     f"got {index:g}")
         line, dispersion = self.scalar(f"{pre}dispersion")
         if dispersion < 0:
             raise self.r.error(line, f"{self.label}: {pre}dispersion must be >= 0, got {dispersion:g}")
@@ -330,7 +344,7 @@ def _mesh(blk: _Block, name: str, tag_line: int) -> Mesh:
         else:
             hint = " (is the '-' line before the material missing?)" if _NUMBER.fullmatch(fields[0]) else ""
             raise r.error(line, f"{blk.label}: expected 'v x y z', 'f i j k' or '-',"
-                                f" found '{text.strip()}'{hint}")
+                                f" found '{_short(text.strip(), 60)}'{hint}")
         blk.pos += 1
     material, _dispersion = blk.material(name)
 

@@ -34,7 +34,14 @@ def environment_rgb(env, image, d):
     Sky: elevation e = d.up; above the horizon the colour blends from horizon to zenith as
     1 - (1 - e)^3, plus a sun disc (cos^2000) and glow (cos^8); below, a ground darkening with
     depth; a narrow smooth blend (|e| < 0.01) avoids a seam.
-    Image: equirectangular lookup, nearest texel, longitude from the (x, z) axes around up.
+    Image: equirectangular (latitude-longitude) lookup, nearest texel, in Mitsuba 3's
+    ``envmap`` convention (W. Jakob et al., Mitsuba 3 renderer, plugin ``envmap``; checked
+    against Mitsuba itself in tests/test_environment.py): in the frame (X, up, Z) of the
+    record's ``xaxis``, ``up`` and ``zaxis`` (world x, y, z for up = +y), the direction d falls on
+    column u = atan2(d.X, -d.Z) / 2π (mod 1) and row v = acos(d.up) / π of the image (row 0 at
+    the zenith).  Looking along -Z with up up, the image's column 0 is straight ahead and the
+    columns increase to the right (u = 1/4 at +X, 1/2 behind, 3/4 at -X): the image is seen as
+    it is drawn, not mirrored (docs/images/environment_convention.png).
     """
     s = env.intensity
     if env.kind == ENV_CONSTANT:
@@ -49,9 +56,11 @@ def environment_rgb(env, image, d):
         x = d[0] * xa[0] + d[1] * xa[1] + d[2] * xa[2]
         z = d[0] * za[0] + d[1] * za[1] + d[2] * za[2]
         theta = math.acos(min(1.0, max(-1.0, e)))
-        phi = math.atan2(x, z) + math.pi
+        u = math.atan2(x, -z) / (2.0 * math.pi)  # in [-1/2, 1/2]
+        if u < 0.0:
+            u += 1.0
         i = min(h - 1, int(theta / math.pi * h))
-        j = min(w - 1, int(phi / (2.0 * math.pi) * w)) % w
+        j = min(w - 1, int(u * w))
         return image[i, j, 0] * s, image[i, j, 1] * s, image[i, j, 2] * s
     # sky
     up_t = 1.0 - (1.0 - max(e, 0.0)) ** 3

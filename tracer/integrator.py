@@ -113,12 +113,14 @@ class Workspace(NamedTuple):
     film_T: np.ndarray
     counts: np.ndarray  # (N_COUNTS,) int64 rays by kind
     ones: np.ndarray  # (C,) 1.0
+    cancel: np.ndarray  # (1,) int64 shared by every thread: stop as soon as it is non-zero
 
 
 @njit(**_JIT)
-def new_workspace(scene, depth):
+def new_workspace(scene, depth, cancel):
     """A :class:`Workspace` for *scene* and trace depth *depth* (its ray stack holds
-    ``depth + 8`` rays: a depth-first walk keeps at most one pending sibling per level)."""
+    ``depth + 8`` rays: a depth-first walk keeps at most one pending sibling per level), and
+    the shared cancel flag *cancel*."""
     nc = scene.rgb_basis.shape[0]
     nb = scene.films.shape[0]
     size = depth + 8
@@ -131,7 +133,7 @@ def new_workspace(scene, depth):
         np.full(nb, -1.0), np.empty((nb, nc, N_FILM_COEFFICIENTS), dtype=np.complex128),
         np.empty((nb, nc)), np.empty((nb, nc)), np.empty((nb, nc)), np.empty((nb, nc + 1)),
         np.full(nb, -1.0), np.empty((nb, nc)), np.empty((nb, nc)),
-        np.zeros(N_COUNTS, dtype=np.int64), np.ones(nc),
+        np.zeros(N_COUNTS, dtype=np.int64), np.ones(nc), cancel,
     )
 
 
@@ -333,7 +335,10 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
     first = True
     eps = scene.eps
     lights = scene.lights
+    cancel = ws.cancel
     while sp > 0:
+        if cancel[0] != 0:
+            return  # cancelled (Ctrl-C): the caller discards the image
         sp -= 1
         o = (stack_o[sp, 0], stack_o[sp, 1], stack_o[sp, 2])
         d = (stack_d[sp, 0], stack_d[sp, 1], stack_d[sp, 2])
@@ -417,6 +422,8 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
     for i in range(N_COUNTS):  # here, not in render_rows' parallel loop: numba's parfor pass
         ray_counts[i] = 0  # hoisted that reset out of the loop over a task's rows
     for x in range(width):
+        if ws.cancel[0] != 0:
+            break
         pix = y * width + x
         r = 0.0
         g = 0.0
@@ -445,10 +452,13 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
         counts[y, i] = ray_counts[i]
 
 
-@njit(parallel=True, **_JIT)
-def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, threshold, image, counts):
+@njit(parallel=True, nogil=True, **_JIT)
+def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, threshold, image, counts, cancel):
     """Render the rows ``rows`` (int64, distinct, any order) of ``image`` (height, width, 3:
     linear sRGB) and their ray counts into ``counts`` (height, N_COUNTS).
+
+    ``cancel`` (1,) int64: every thread stops at its next ray once ``cancel[0]`` is non-zero
+    (set by another Python thread: this kernel releases the GIL), leaving the image partial.
 
     The rows are handed out in tasks of *rows_per_task* consecutive entries of *rows*, each
     with one workspace (allocating one per row cost the threads a contended allocator).  Rows
@@ -459,6 +469,6 @@ def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, thr
     n = rows.shape[0]
     n_tasks = (n + rows_per_task - 1) // rows_per_task
     for task in prange(n_tasks):
-        ws = new_workspace(scene, depth)
+        ws = new_workspace(scene, depth, cancel)
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
             render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts)

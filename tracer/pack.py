@@ -20,8 +20,9 @@ from . import layout as lay
 from .bvh import build_bvh
 from .geometry import origin_epsilon
 from .layout import PackedScene
+from .limits import MAX_MAGNITUDE
 from .meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces, weld_vertices
-from .scene import Scene
+from .scene import Scene, unit_vector
 
 __all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
            "AUTO_FRINGE_BANDS", "SPECTRAL_METHODS"]
@@ -64,14 +65,6 @@ def _channel_setup(spectral, n_bands):
     if np.linalg.cond(round_trip) <= BASIS_NORMALISE_MAX_COND:
         basis = basis @ np.linalg.inv(round_trip)
     return wl, to_rgb, basis
-
-
-def _unit(v):
-    v = np.asarray(v, float)
-    n = np.linalg.norm(v)
-    if not n > 0:
-        raise ValueError(f"zero-length direction vector {v.tolist()}")
-    return v / n
 
 
 def _concatenate(parts, empty):
@@ -188,7 +181,7 @@ def _film_record(rec, fp, shininess, lossless, maps, map_size):
     """Fill a FILM record from a FilmProfile; returns the new size of the flat map table."""
     if fp.kind not in _PROFILES:
         raise ValueError(f"unknown film kind {fp.kind!r}")
-    up = _unit(fp.up)
+    up = unit_vector(fp.up, "film up")
     rec["profile"] = _PROFILES[fp.kind]
     rec["thickness_nm"] = fp.thickness_nm
     rec["top_nm"], rec["bottom_nm"], rec["exponent"] = fp.top_nm, fp.bottom_nm, fp.exponent
@@ -210,17 +203,27 @@ def _film_record(rec, fp, shininess, lossless, maps, map_size):
     return map_size
 
 
+def _environment_xaxis(up):
+    """The image environment's longitude axis X: world +x made perpendicular to *up* (world +z
+    when up is within 0.1 degrees of the x axis).  With Z = X x up, the frame (X, up, Z) is
+    world (x, y, z) for the default up = +y: Mitsuba 3's ``envmap`` frame (see
+    :func:`tracer.environment.environment_rgb`)."""
+    ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < math.cos(math.radians(0.1)) else np.array([0.0, 0.0, 1.0])
+    x = ref - np.dot(ref, up) * up
+    return x / np.linalg.norm(x)
+
+
 def _environment_record(env):
     if env.kind not in _ENV_KINDS:
         raise ValueError(f"unknown environment kind {env.kind!r}")
     rec = np.zeros(1, lay.ENVIRONMENT)
-    up = _unit(env.up)
-    xaxis = _perpendicular(up)
+    up = unit_vector(env.up, "environment up")
+    xaxis = _environment_xaxis(up)
     rec["kind"] = _ENV_KINDS[env.kind]
     rec["color"] = env.color
     rec["intensity"] = env.intensity
     rec["up"] = up
-    rec["sun"] = _unit(env.sun_direction)
+    rec["sun"] = unit_vector(env.sun_direction, "environment sun_direction")
     rec["xaxis"] = xaxis
     rec["zaxis"] = np.cross(xaxis, up)
     image = np.zeros((1, 1, 3)) if env.image is None else np.ascontiguousarray(env.image, dtype=float)
@@ -235,6 +238,47 @@ def _camera_record(camera):
     return rec
 
 
+def check_magnitudes(scene: Scene):
+    """ValueError naming the first number of *scene* that is not finite or is beyond
+    :data:`tracer.limits.MAX_MAGNITUDE` (the loaders refuse such numbers with FILE:LINE; this
+    is the same check for scenes built in Python)."""
+
+    def check(what, value):
+        a = np.asarray(value, dtype=float)
+        if a.size and not (np.all(np.isfinite(a)) and np.abs(a).max() <= MAX_MAGNITUDE):
+            shown = a.ravel()[np.flatnonzero(~(np.abs(a.ravel()) <= MAX_MAGNITUDE))[0]]
+            raise ValueError(f"{what}: {shown:g} is not a finite number within -{MAX_MAGNITUDE:g} to "
+                             f"{MAX_MAGNITUDE:g} (tracer.limits)")
+
+    cam = scene.camera
+    if not 0.0 < float(cam.fov_deg) < 180.0:
+        raise ValueError(f"camera fov_deg must be > 0 and < 180, got {cam.fov_deg!r}")
+    check("camera position", cam.position)
+    check("camera look_at", cam.look_at)
+    check("camera up", cam.up)
+    check("ambient", scene.ambient)
+    for s in scene.spheres:
+        check(f"sphere {s.name!r} center", s.center)
+        check(f"sphere {s.name!r} radius", s.radius)
+    for b in scene.bubbles:
+        check(f"bubble {b.name!r} center", b.center)
+        check(f"bubble {b.name!r} radius", b.radius)
+        f = b.film
+        check(f"bubble {b.name!r} film thickness", [f.thickness_nm, f.top_nm, f.bottom_nm, f.exponent, f.swirl,
+                                                     f.swirl_scale])
+        if f.table is not None:
+            check(f"bubble {b.name!r} film map", f.table)
+    for m in scene.meshes:
+        check(f"mesh {m.name!r} vertices", m.vertices)
+    for i, lt in enumerate(scene.lights, start=1):
+        check(f"light {i} position", lt.position)
+        check(f"light {i} intensity", [lt.intensity, *lt.color])
+    env = scene.environment
+    check("environment colour", [*env.color, env.intensity])
+    if env.image is not None:
+        check("environment image", env.image)
+
+
 def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_method="auto") -> PackedScene:
     """Pack *scene*; spectral transport if it has bubbles (or *force_spectral* is True).
 
@@ -244,6 +288,7 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     ``"auto"`` chooses between them (:func:`resolve_spectral_method`).
     ``PackedScene.band_mode`` records the choice.
     """
+    check_magnitudes(scene)
     spectral_method = resolve_spectral_method(scene, spectral_samples, spectral_method)
     spectral = bool(scene.bubbles) if force_spectral is None else bool(force_spectral)
     wl, to_rgb, basis = channel_setup(spectral, spectral_samples)

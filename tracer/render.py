@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,10 +14,11 @@ from bubbleoptics.atomic import write_atomically
 
 from .integrator import N_COUNTS, render_rows
 from .layout import RAY_COUNT_KINDS, PackedScene
+from .limits import check_memory, check_settings
 from .pack import pack_scene
 from .scene import Scene
 
-__all__ = ["render", "render_with_stats", "RenderStats", "save_image", "DEFAULTS"]
+__all__ = ["render", "render_with_stats", "resolve_settings", "RenderStats", "save_image", "DEFAULTS"]
 
 #: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
@@ -40,12 +42,6 @@ class RenderStats:
     spectral_method: str = ""  # "point" or "band" in spectral mode (what "auto" chose), "" in RGB
 
 
-def _check_int(name, value, minimum):
-    if isinstance(value, bool) or int(value) != value or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum} (got {value!r})")
-    return int(value)
-
-
 #: Rows per task of the parallel loop (one workspace each): small enough to balance an image
 #: whose objects sit in one part of it (the rows are spread over the tasks, :func:`_spread`),
 #: large enough that a task's workspace costs nothing.
@@ -57,6 +53,7 @@ PROGRESS_AFTER = 0.5
 #: for a file about a fifth larger (docs/performance.md).
 PNG_COMPRESS_LEVEL = 3
 CALL_SECONDS = 0.25
+_RENDER_LOCK = threading.Lock()
 
 
 def _spread(rows):
@@ -74,12 +71,46 @@ def _spread(rows):
 
 
 def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts):
-    """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``."""
+    """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``.
+
+    The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
+    Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
+    threads to stop at their next ray, and raises ``KeyboardInterrupt`` (the partial image is
+    the caller's to discard).
+    """
     import numba
 
-    with numba.parallel_chunksize(1):
-        render_rows(packed, _spread(rows), ROWS_PER_TASK, width, height, spp, seed, depth, threshold, image,
-                    counts)
+    cancel = np.zeros(1, dtype=np.int64)
+    failure = []
+    done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early
+
+    def work():
+        try:
+            with numba.parallel_chunksize(1):
+                render_rows(packed, _spread(rows), ROWS_PER_TASK, width, height, spp, seed, depth, threshold,
+                            image, counts, cancel)
+        except BaseException as exc:  # re-raised in the calling thread
+            failure.append(exc)
+        finally:
+            done.set()
+
+    with _RENDER_LOCK:  # one parallel kernel at a time (numba's thread pool is shared)
+        worker = threading.Thread(target=work, name="tracer-render", daemon=True)
+        try:
+            worker.start()
+            while not done.wait(0.05):
+                pass
+        except BaseException:
+            cancel[0] = 1
+            # the kernel must have stopped before the next one starts: wait, whatever comes
+            while worker.ident is not None and not done.is_set():
+                try:
+                    done.wait(0.05)
+                except BaseException:
+                    continue
+            raise
+    if failure:
+        raise failure[0]
 
 
 def _interleaved(height, n_parts):
@@ -94,30 +125,57 @@ def warm_up(packed: PackedScene):
                np.zeros((1, N_COUNTS), dtype=np.int64))
 
 
+#: The render settings a scene's ``[render]`` table (``Scene.render_defaults``) may set.
+SCENE_SETTINGS = tuple(DEFAULTS)
+
+
+def resolve_settings(scene: Scene, names=None, **given) -> dict:
+    """The render settings: each one *given* (not None), else the scene's ``[render]`` table
+    (``scene.render_defaults``), else :data:`DEFAULTS`; checked against
+    :mod:`tracer.limits` (``names`` maps a setting to what the caller calls it in errors, e.g.
+    ``--depth``) and for memory, before any work.  Raises :class:`tracer.limits.LimitError`.
+
+    >>> from tracer import Scene
+    >>> resolve_settings(Scene(render_defaults={"spp": 4}), width=64)["spp"]
+    4
+    >>> resolve_settings(Scene(), depth=10**8)
+    Traceback (most recent call last):
+    ...
+    tracer.limits.LimitError: depth must be an integer from 1 to 1000, got 100000000
+    """
+    unknown = set(given) - set(DEFAULTS)
+    if unknown:
+        raise TypeError(f"unknown render setting(s): {', '.join(sorted(unknown))}")
+    settings = dict(DEFAULTS)
+    settings.update(scene.render_defaults)
+    settings.update({k: v for k, v in given.items() if v is not None})
+    settings = check_settings(settings, names)
+    if settings["spectral_method"] not in ("auto", "point", "band"):
+        raise ValueError(f"{(names or {}).get('spectral_method', 'spectral_method')} must be one of "
+                         f"'auto', 'point', 'band', got {settings['spectral_method']!r}")
+    check_memory(settings["width"], settings["height"])
+    return settings
+
+
 def render_with_stats(
     scene: Scene,
     *,
-    width=DEFAULTS["width"],
-    height=DEFAULTS["height"],
-    depth=DEFAULTS["depth"],
-    spp=DEFAULTS["spp"],
-    threshold=DEFAULTS["threshold"],
-    spectral_samples=DEFAULTS["spectral_samples"],
-    seed=DEFAULTS["seed"],
+    width=None,
+    height=None,
+    depth=None,
+    spp=None,
+    threshold=None,
+    spectral_samples=None,
+    seed=None,
     spectral=None,
-    spectral_method=DEFAULTS["spectral_method"],
+    spectral_method=None,
     progress=None,
 ):
     """Render and return ``(image, RenderStats)``; see :func:`render`."""
-    width = _check_int("width", width, 1)
-    height = _check_int("height", height, 1)
-    depth = _check_int("depth", depth, 1)
-    spp = _check_int("spp", spp, 1)
-    spectral_samples = _check_int("spectral_samples", spectral_samples, 1)
-    seed = _check_int("seed", seed, 0)
-    if not (threshold >= 0 and np.isfinite(threshold)):
-        raise ValueError(f"threshold must be a finite number >= 0 (got {threshold!r})")
-    threshold = float(threshold)
+    s = resolve_settings(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
+                         spectral_samples=spectral_samples, seed=seed, spectral_method=spectral_method)
+    width, height, depth, spp, threshold = s["width"], s["height"], s["depth"], s["spp"], s["threshold"]
+    seed, spectral_samples, spectral_method = s["seed"], s["spectral_samples"], s["spectral_method"]
     packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral,
                         spectral_method=spectral_method)
     warm_up(packed)
@@ -126,7 +184,7 @@ def render_with_stats(
     t0 = time.perf_counter()
     # a first call on every 16th row measures the scene; the rest in one call if short, else in
     # interleaved parts of about CALL_SECONDS each behind a progress bar
-    first, *_ = _interleaved(height, min(16, height))
+    first, *_ = _interleaved(height, max(1, min(16, height), height // 64))
     rest = np.setdiff1d(np.arange(height, dtype=np.int64), first)
     _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts)
     per_row = (time.perf_counter() - t0) / first.size
@@ -155,23 +213,28 @@ def render_with_stats(
     return image, RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0], method)
 
 
-def render(scene: Scene, *, width=960, height=960, depth=DEFAULTS["depth"], spp=DEFAULTS["spp"],
-           threshold=DEFAULTS["threshold"], spectral_samples=DEFAULTS["spectral_samples"],
-           seed=DEFAULTS["seed"], spectral=None, spectral_method=DEFAULTS["spectral_method"], progress=None):
+def render(scene: Scene, *, width=None, height=None, depth=None, spp=None, threshold=None,
+           spectral_samples=None, seed=None, spectral=None, spectral_method=None, progress=None):
     """Render *scene* to an (height, width, 3) float array of linear sRGB radiance.
+
+    Every setting left at None takes its value from the scene's ``[render]`` table (a TOML
+    file's, ``scene.render_defaults``), else from :data:`DEFAULTS`; all are checked against
+    :mod:`tracer.limits` before any work (:func:`resolve_settings`).
 
     Parameters
     ----------
-    depth : maximum ray generation (1 = camera rays only), as the coursework's "trace depth".
-    spp : samples per pixel (stratified jitter; the pixel centre when 1).
+    width, height : image size in pixels (1-65535, and the image must fit in memory).
+    depth : maximum ray generation (1 = camera rays only), as the coursework's "trace depth"
+        (1-1000; at most 24 when ``threshold`` is 0).
+    spp : samples per pixel (stratified jitter; the pixel centre when 1), 1-65536.
     threshold : pruning threshold on a child ray's throughput (0 = exhaustive tree).
     spectral_samples : wavelength bands for spectral transport (used when the scene has bubbles,
-        or when ``spectral=True``); ``spectral=False`` forces RGB transport.
+        or when ``spectral=True``), 1-421; ``spectral=False`` forces RGB transport.
     spectral_method : ``"point"`` (films evaluated at the band centres), ``"band"`` (each
         band's film averaged over the band in closed form: no aliasing on thick films), or
         ``"auto"`` (the default: ``"band"`` only when a film is thick enough for point samples to
         alias, :func:`tracer.pack.resolve_spectral_method`).
-    seed : random seed; the image depends on it but not on the thread count.
+    seed : random seed (0 to 2**63 - 1); the image depends on it but not on the thread count.
     progress : show a progress bar (default: when stderr is a terminal).
     """
     return render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,

@@ -33,6 +33,18 @@ __all__ = [
 COURSEWORK_NM_PER_UNIT = 1000.0
 
 
+def unit_vector(v, what="direction"):
+    """*v* scaled to unit length: first by its largest component, so that neither tiny
+    (``[0, 1e-300, 0]``) nor huge components under- or overflow the length; ValueError naming
+    *what* when it has no direction (zero, or not finite)."""
+    v = np.asarray(v, float)
+    m = np.abs(v).max() if v.size else 0.0
+    if not (m > 0 and np.isfinite(m)):
+        raise ValueError(f"{what} {v.tolist()} has no direction (zero or not finite)")
+    v = v / m
+    return v / np.linalg.norm(v)
+
+
 @dataclass
 class Material:
     """Whitted/Phong material (the coursework's five material lines, in physical clothing).
@@ -147,12 +159,14 @@ class Camera:
     def basis(self):
         """(origin, forward, right, up) unit vectors; raises ValueError when degenerate."""
         pos = np.asarray(self.position, float)
-        fwd = np.asarray(self.look_at, float) - pos
-        norm = np.linalg.norm(fwd)
-        if not norm > 0:
-            raise ValueError("camera look_at coincides with its position")
-        fwd /= norm
-        right = np.cross(fwd, np.asarray(self.up, float))
+        look = np.asarray(self.look_at, float)
+        with np.errstate(over="ignore", invalid="ignore"):
+            fwd = look - pos  # may overflow for coordinates near the float limit: checked below
+        if not np.any(fwd) or not np.all(np.isfinite(fwd)):
+            what = "coincides with" if not np.any(fwd) else "is too far (overflow) from"
+            raise ValueError(f"camera look_at {what} its position")
+        fwd = unit_vector(fwd, "camera look_at - position")
+        right = np.cross(fwd, unit_vector(self.up, "camera up"))
         rn = np.linalg.norm(right)
         if not rn > 1e-12:
             raise ValueError("camera up vector is parallel to the viewing direction")

@@ -39,6 +39,7 @@ from bubbleoptics.colorimetry import srgb_to_linear_srgb
 from .assets import AssetError, load_environment_image, load_film_map, load_mesh_file
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
+from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, MAX_INDEX, MAX_MAGNITUDE
 from .scene import (
     Bubble,
     Camera,
@@ -246,24 +247,32 @@ class _Ctx:
         return value
 
     # -- values -------------------------------------------------------------------------------
-    def number(self, kp, v, lo=None, hi=None, lo_open=False) -> float:
+    def number(self, kp, v, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise self.bad(kp, f"must be a number, got {_typename(v)}")
-        v = float(v)
+        raw = v
+        try:
+            v = float(v)
+        except OverflowError:  # an integer too large for a float
+            v = math.inf
         if not math.isfinite(v):
-            raise self.bad(kp, f"must be a finite number, got {v}")
+            raise self.bad(kp, f"must be a finite number, got {_short(raw)}")
         if lo is not None and (v <= lo if lo_open else v < lo):
             rel = ">" if lo_open else ">="
             raise self.bad(kp, f"must be {rel} {lo:g}, got {v:g}")
-        if hi is not None and v > hi:
-            raise self.bad(kp, f"must be <= {hi:g}, got {v:g}")
+        if hi is not None and (v >= hi if hi_open else v > hi):
+            raise self.bad(kp, f"must be {'<' if hi_open else '<='} {hi:g}, got {v:g}")
+        if abs(v) > MAX_MAGNITUDE:
+            raise self.bad(kp, f"must be within -{MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g} (tracer.limits), got {v!r}")
         return v
 
-    def integer(self, kp, v, lo=None) -> int:
+    def integer(self, kp, v, lo=None, hi=None) -> int:
         if isinstance(v, bool) or not isinstance(v, int):
             raise self.bad(kp, f"must be an integer, got {_typename(v)}")
+        if hi is not None and not lo <= v <= hi:
+            raise self.bad(kp, f"must be an integer from {lo} to {hi}, got {_short(v)}")
         if lo is not None and v < lo:
-            raise self.bad(kp, f"must be >= {lo}, got {v}")
+            raise self.bad(kp, f"must be >= {lo}, got {_short(v)}")
         return int(v)
 
     def string(self, kp, v) -> str:
@@ -328,7 +337,7 @@ _FILM_KEYS = {
     "draining": {"kind", "top_nm", "bottom_nm", "exponent"} | _SWIRL_KEYS,
     "map": {"kind", "path"} | _SWIRL_KEYS,
 }
-_RENDER_INT = {"width": 1, "height": 1, "depth": 1, "spp": 1, "spectral_samples": 1, "seed": 0}
+_RENDER_INT = {k: LIMITS[k] for k in ("width", "height", "depth", "spp", "spectral_samples", "seed")}
 _RENDER_FLOAT = {"threshold": 0.0}
 _RENDER_CHOICE = {"spectral_method": ("auto", "point", "band")}
 
@@ -348,6 +357,11 @@ def parse_toml_text(text: str, path="<string>") -> Scene:
         elif re.search(r"\(at end of document\)", msg):
             line = line or len(text.split("\n"))
         raise SceneError(path, line, f"invalid TOML: {msg}") from None
+    except ValueError:  # tomllib hands Python's int() an integer of more than 4300 digits
+        m = re.search(r"\d{4300,}", text)
+        line = text[: m.start()].count("\n") + 1 if m else None
+        raise SceneError(path, line, f"a number of {len(m.group()) if m else 'thousands of'} digits is too large")\
+            from None
 
     c = _Ctx(path, text)
     c.keys((), doc, _TOP, where="the top level")
@@ -458,13 +472,16 @@ def _render(c: _Ctx, t) -> dict:
     out = {}
     for key, v in t.items():
         if key in _RENDER_INT:
-            out[key] = c.integer(kp + (key,), v, _RENDER_INT[key])
+            out[key] = c.integer(kp + (key,), v, *_RENDER_INT[key])
         elif key in _RENDER_CHOICE:
             if v not in _RENDER_CHOICE[key]:
                 raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {v!r}")
             out[key] = v
         else:
             out[key] = c.number(kp + (key,), v, _RENDER_FLOAT[key])
+    if out.get("threshold", 1.0) == 0.0 and out.get("depth", 1) > MAX_EXHAUSTIVE_DEPTH:
+        raise c.bad(kp + ("depth",), f"must be at most {MAX_EXHAUSTIVE_DEPTH} when render.threshold is 0 (the "
+                                     f"exhaustive tree has up to 2^depth - 1 rays a sample), got {out['depth']}")
     return out
 
 
@@ -482,7 +499,7 @@ def _material(c: _Ctx, kp, t, name, inline) -> Material:
         specular=c.number(kp + ("specular",), t.get("specular", d.specular), **unit),
         transmission=c.number(kp + ("transmission",), t.get("transmission", d.transmission), **unit),
         shininess=c.number(kp + ("shininess",), t.get("shininess", d.shininess), 0.0),
-        ior=c.number(kp + ("ior",), t.get("ior", d.ior), 0.0, lo_open=True),
+        ior=c.number(kp + ("ior",), t.get("ior", d.ior), 0.0, MAX_INDEX, lo_open=True),
     )
 
 
@@ -510,7 +527,7 @@ def _bubble(c: _Ctx, kp, t) -> Bubble:
         if n_film != "water":
             raise c.bad(kp + ("n_film",), f"must be \"water\" or a number, got '{n_film}'")
     else:
-        n_film = c.number(kp + ("n_film",), n_film, 0.0, lo_open=True)
+        n_film = c.number(kp + ("n_film",), n_film, 0.0, MAX_INDEX, lo_open=True)
     return Bubble(
         center=c.vec3(kp + ("center",), t["center"]),
         radius=c.number(kp + ("radius",), t["radius"], 0.0, lo_open=True),
@@ -605,6 +622,9 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
         verts = verts * c.number(kp + ("scale",), t["scale"], 0.0, lo_open=True)
     if "translate" in t:
         verts = verts + np.array(c.vec3(kp + ("translate",), t["translate"]))
+    if not np.abs(verts).max() <= MAX_MAGNITUDE:  # scale can carry a file's vertices beyond it
+        raise c.bad(kp + ("scale",) if "scale" in t else fkp,
+                    f"the mesh's vertices reach {np.abs(verts).max():g}, beyond {MAX_MAGNITUDE:g} (tracer.limits)")
     if shading == "auto":
         shading = "smooth" if normals is not None else "flat"
     bad = degenerate_triangles(verts[faces])
