@@ -4,8 +4,8 @@ the number of triangles.
 Run:  python benchmarks/mesh_scale.py [--repeats N] [--quick]
 Writes ``data/derived/mesh_scale.csv``.
 
-Shapes, generated with trimesh and written as binary PLY files (vertices and faces, no normals)
-into a temporary folder, each named by a TOML scene as a user would write it
+Shapes, generated with trimesh and written as binary PLY files (float64 vertices and faces, no
+normals: :func:`write_ply`) into a temporary folder, each named by a TOML scene as a user would write it
 (``[[meshes]] path = "...", shading = "smooth"``: vertex normals computed at packing):
 
 * ``sphere``: a UV sphere (``trimesh.creation.uv_sphere``), convex and closed: the orientation
@@ -92,6 +92,22 @@ intensity = 1.0
 """
 
 
+def write_ply(path: Path, vertices, faces):
+    """A binary PLY with float64 vertices (trimesh's exporter writes float32, which moves the
+    vertices of a fine sphere off it by more than the orientation rule's 1e-9 tolerance: such a
+    file is not convex by the rule, and its winding is kept)."""
+    head = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\n"
+            "property double x\nproperty double y\nproperty double z\n"
+            f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    rows = np.empty(len(faces), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    rows["n"] = 3
+    rows["i"] = faces
+    with open(path, "wb") as fh:
+        fh.write(head.encode("ascii"))
+        fh.write(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
+        fh.write(rows.tobytes())
+
+
 def write_shape(folder: Path, shape, size):
     """Write the PLY and its TOML scene; returns (toml path, number of faces)."""
     import trimesh
@@ -101,7 +117,7 @@ def write_shape(folder: Path, shape, size):
     if shape == "torus":
         mesh.apply_transform(trimesh.transformations.rotation_matrix(1.1, [1.0, 0.0, 0.0]))
     ply = folder / f"{shape}_{size}.ply"
-    ply.write_bytes(trimesh.exchange.ply.export_ply(mesh, encoding="binary", vertex_normal=False))
+    write_ply(ply, np.asarray(mesh.vertices), np.asarray(mesh.faces))
     toml = folder / f"{shape}_{size}.toml"
     toml.write_text(SCENE.format(shape=shape, faces=len(mesh.faces), path=ply.name), encoding="utf-8")
     return toml, len(mesh.faces)

@@ -727,6 +727,41 @@ def test_bvh_depth_is_bounded_where_sah_would_peel(monkeypatch):
         build_bvh(tris)
 
 
+@pytest.mark.reference
+def test_bvh_parallel_build_is_the_serial_tree(monkeypatch):
+    """Above 2 PARALLEL_MIN triangles the subtrees below the top are built in numba threads:
+    the same tree (triangle order, leaves) as one thread building it all, the same arrays for
+    one and two threads, and the brute-force nearest hits."""
+    import numba
+
+    import tracer.bvh as bvh_module
+
+    rng = np.random.default_rng(42)
+    tris = _soup(rng, 2 * bvh_module.PARALLEL_MIN + 5000, size=0.02)
+    threads = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = build_bvh(tris)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        two = build_bvh(tris)
+    finally:
+        numba.set_num_threads(threads)
+    assert all(np.array_equal(a, b) for a, b in zip(one, two))
+    monkeypatch.setattr(bvh_module, "PARALLEL_MIN", 10**9)
+    serial = build_bvh(tris)
+
+    def leaves(b):
+        leaf = b.child[:, 0] < 0
+        return sorted(zip(b.first[leaf].tolist(), b.count[leaf].tolist()))
+
+    assert np.array_equal(serial.order, two.order) and leaves(serial) == leaves(two)
+    assert len(serial.bounds) == len(two.bounds)
+    _check_structure(two, tris)
+    O, D = _rays(rng, 300)
+    t_b, _, _ = _bvh_batch(O, D, 0.0, INF, *two[:4], two.tris)
+    assert np.array_equal(t_b, _tri_matrix(O, D, tris, 0.0, INF).min(axis=1))
+
+
 @pytest.mark.api
 def test_bvh_overwrite_collapses_in_place_only_when_asked():
     tris = np.array([[[0.0, 0, 0], [1, 1, 1], [2, 2, 2]], [[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]])

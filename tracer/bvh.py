@@ -18,6 +18,11 @@ whole build O(T log T) time and O(T) memory, with no Python per node or per leve
   suffice for the traversal (T < 2**30).
 * Every node with more than :data:`LEAF_SIZE` triangles is split (no SAH leaf test): the leaf
   size is a bound the traversal may rely on.
+* Above 2 x :data:`PARALLEL_MIN` triangles the top of the tree is built first, down to nodes
+  of at most max(T / 32, PARALLEL_MIN) triangles, and those subtrees are then built in numba's
+  threads (:func:`_build_tasks_nb`), each into its own range of node ids, which are compacted
+  afterwards: the same splits as one thread would make (every split depends on its node's
+  triangles and depth only), so the tree does not depend on the number of threads.
 * Centroids are computed as ``0.5 lo + 0.5 hi`` (no overflow for coordinates near the largest
   double); a bin split whose cost overflows to infinity is never chosen (the middle split is
   used instead), so huge coordinates give a valid, if not SAH-optimal, tree.
@@ -43,7 +48,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from .geometry import STACK_SIZE, intersect_bvh
 
@@ -63,6 +68,10 @@ LEAF_SIZE = 4
 N_BINS = 12
 #: Nodes at depths 1 .. this (root = 1) are split by SAH, deeper ones at the object median.
 _SAH_MAX_DEPTH = 32
+
+#: Meshes of more than twice this many triangles have their subtrees of at most
+#: max(T / 32, this) triangles built in parallel (numba threads).
+PARALLEL_MIN = 16384
 
 _EPS = 2.0**-52
 _JIT = dict(cache=True, error_model="numpy")
@@ -226,20 +235,27 @@ def _range_bounds(box, start, end, out):
 
 
 @njit(**_JIT)
-def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first, count):
-    """Build the tree into the preallocated arrays; returns ``(number of nodes, depth)``.
+def _build_range_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first, count, root, start0, end0,
+                    depth0, cbox0, next_node, cutoff, tasks, task_cbox):
+    """Build the subtree of node *root* over the triangles ``start0 .. end0 - 1``.
 
     *box*: (T, 9) per triangle its box ``lo``, ``hi`` and the box centre (columns 0-2, 3-5,
-    6-8), permuted in place together with *order*, so that every pass over a node reads memory
-    in sequence; *order*: (T,) the identity on entry, the triangle order on exit; *bounds*
-    (2T - 1, 2, 3), *child* (2T - 1, 2) set to -1, *first*, *count* (2T - 1,) zero.  The depth
-    counts the root as 1.
+    6-8), permuted in place together with *order* (the triangle order), so that every pass over
+    a node reads memory in sequence.  *root*'s box is in *bounds* already (written by its
+    parent, or by the caller for the root), *cbox0* is its centres' box (lo xyz, hi xyz),
+    *depth0* its depth (the tree's root has depth 1).  New nodes are numbered from
+    *next_node* up; *bounds*, *child* (-1 where unset), *first*, *count* are the tree's arrays.
 
-    A node is visited once after its parent wrote its box and its centres' box: the SAH split
+    With *cutoff* > 0 a node of more than ``leaf_size`` but at most *cutoff* triangles is not
+    split but listed in ``tasks`` (rows node, start, end, depth; centres' boxes in
+    ``task_cbox``), to be built by a later call.  Returns ``(next free node, deepest depth
+    reached, number of tasks)``.
+
+    A node is visited once, after its parent wrote its box and its centres' box: the SAH split
     gets both children's boxes from its bins (unions of the same triangle boxes) and their
     centres' boxes while it partitions, so a node costs two passes over its triangles.
     """
-    T = order.shape[0]
+    T = end0 - start0
     # pending nodes: (node, start, end, depth) and the centres' box; depth first, so at most
     # one node per level waits
     n_stack = min(sah_max_depth, T) + STACK_SIZE + 8  # > the depth bound (module doc)
@@ -258,19 +274,16 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
     rc_box = np.empty(6)
     half = np.empty(12)
 
-    _range_bounds(box, 0, T, half)
-    for q in range(3):
-        bounds[0, 0, q] = half[q]
-        bounds[0, 1, q] = half[3 + q]
     for q in range(6):
-        stack_cbox[0, q] = half[6 + q]
-    stack_node[0] = 0
-    stack_start[0] = 0
-    stack_end[0] = T
-    stack_depth[0] = 1
+        stack_cbox[0, q] = cbox0[q]
+    stack_node[0] = root
+    stack_start[0] = start0
+    stack_end[0] = end0
+    stack_depth[0] = depth0
     sp = 1
-    n_nodes = 1
-    max_depth = 1
+    n_nodes = next_node
+    max_depth = depth0
+    n_tasks = 0
     while sp > 0:
         sp -= 1
         node = stack_node[sp]
@@ -283,6 +296,15 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
         if n <= leaf_size:
             first[node] = start
             count[node] = n
+            continue
+        if n <= cutoff:
+            tasks[n_tasks, 0] = node
+            tasks[n_tasks, 1] = start
+            tasks[n_tasks, 2] = end
+            tasks[n_tasks, 3] = depth
+            for q in range(6):
+                task_cbox[n_tasks, q] = stack_cbox[sp, q]
+            n_tasks += 1
             continue
         cmin = (stack_cbox[sp, 0], stack_cbox[sp, 1], stack_cbox[sp, 2])
         ext = (stack_cbox[sp, 3] - cmin[0], stack_cbox[sp, 4] - cmin[1], stack_cbox[sp, 5] - cmin[2])
@@ -507,7 +529,53 @@ def _build_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first
         for q in range(6):
             stack_cbox[sp, q] = lc_box[q]
         sp += 1
-    return n_nodes, max_depth
+    return n_nodes, max_depth, n_tasks
+
+
+@njit(parallel=True, **_JIT)
+def _build_tasks_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first, count, tasks, task_cbox,
+                    base, used, depth):
+    """Build the subtrees listed in *tasks* in parallel, task *k*'s new nodes from ``base[k]``
+    up (its range of ``2 n`` ids cannot overlap another's); ``used[k]``, ``depth[k]``: its next
+    free node and deepest depth."""
+    for k in prange(tasks.shape[0]):
+        cb = task_cbox[k].copy()
+        nn, dd, _ = _build_range_nb(box, leaf_size, n_bins, sah_max_depth, order, bounds, child, first, count,
+                                    tasks[k, 0], tasks[k, 1], tasks[k, 2], tasks[k, 3], cb, base[k], 0,
+                                    tasks[:0], task_cbox[:0])
+        used[k] = nn
+        depth[k] = dd
+
+
+@njit(**_JIT)
+def _compact_nb(n_top, tasks, base, used, bounds, child, first, count, out_bounds, out_child, out_first, out_count):
+    """Copy the tree into arrays without the unused ids between the tasks' ranges: the top
+    nodes keep their ids, task *k*'s nodes move down to follow the earlier tasks'."""
+    for i in range(n_top):
+        for a in range(2):
+            for q in range(3):
+                out_bounds[i, a, q] = bounds[i, a, q]
+            out_child[i, a] = child[i, a]
+        out_first[i] = first[i]
+        out_count[i] = count[i]
+    new_base = n_top
+    for k in range(tasks.shape[0]):
+        shift = base[k] - new_base
+        r = tasks[k, 0]  # the task's root (a top node): its children are in the task's range
+        if out_child[r, 0] >= 0:
+            out_child[r, 0] -= shift
+            out_child[r, 1] -= shift
+        for i in range(base[k], used[k]):
+            j = i - shift
+            for a in range(2):
+                for q in range(3):
+                    out_bounds[j, a, q] = bounds[i, a, q]
+                c = child[i, a]
+                out_child[j, a] = c - shift if c >= 0 else -1
+            out_first[j] = first[i]
+            out_count[j] = count[i]
+        new_base += used[k] - base[k]
+    return new_base
 
 
 @njit(**_JIT)
@@ -565,24 +633,59 @@ def build_bvh(triangles, leaf_size=LEAF_SIZE, n_bins=N_BINS, *, overwrite=False)
     box = np.empty((T, 9))
     _prepare_nb(tris, degenerate_triangles(tris), box)
 
-    max_nodes = 2 * T - 1  # every split makes two non-empty children
-    bounds = np.empty((max_nodes, 2, 3))
-    child = np.full((max_nodes, 2), -1, dtype=np.int64)
-    first = np.zeros(max_nodes, dtype=np.int64)
-    count = np.zeros(max_nodes, dtype=np.int64)
     order = np.arange(T, dtype=np.int64)
-    n_nodes, depth = _build_nb(box, int(leaf_size), int(n_bins), _SAH_MAX_DEPTH, order, bounds, child, first,
-                               count)
+    # the root's box and its centres' box
+    root = np.empty(12)
+    _range_bounds(box, 0, T, root)
+    # the top of the tree in this thread, down to nodes of at most `cutoff` triangles (a
+    # function of T alone, so the tree is the same for every thread count) ...
+    cutoff = max(T // 32, PARALLEL_MIN) if T > 2 * PARALLEL_MIN else 0
+    # room for the top nodes and the tasks: at each depth (< STACK_SIZE) at most T / cutoff
+    # disjoint nodes have more than `cutoff` triangles, and each split makes two nodes
+    n_room = 2 * STACK_SIZE * (T // cutoff + 1) + 2 if cutoff else 0
+    size = 2 * T + n_room  # the tasks' ranges start at n_top + 2 start, n_top <= n_room
+    bounds = np.empty((size, 2, 3))
+    child = np.full((size, 2), -1, dtype=np.int64)
+    first = np.zeros(size, dtype=np.int64)
+    count = np.zeros(size, dtype=np.int64)
+    bounds[0, 0] = root[0:3]
+    bounds[0, 1] = root[3:6]
+    tasks = np.empty((n_room, 4), dtype=np.int64)
+    task_cbox = np.empty((n_room, 6))
+    n_top, depth, n_tasks = _build_range_nb(box, int(leaf_size), int(n_bins), _SAH_MAX_DEPTH, order, bounds, child,
+                                            first, count, 0, 0, T, 1, root[6:12].copy(), 1, cutoff, tasks,
+                                            task_cbox)
+    if n_tasks:
+        # ... then the subtrees below, in parallel (largest first; ids from n_top + 2 start)
+        pick = np.argsort(-(tasks[:n_tasks, 2] - tasks[:n_tasks, 1]), kind="stable")
+        tasks = np.ascontiguousarray(tasks[:n_tasks][pick])
+        task_cbox = np.ascontiguousarray(task_cbox[:n_tasks][pick])
+        base = n_top + 2 * tasks[:, 1]
+        used = np.empty(n_tasks, dtype=np.int64)
+        depths = np.empty(n_tasks, dtype=np.int64)
+        import numba
+
+        with numba.parallel_chunksize(1):
+            _build_tasks_nb(box, int(leaf_size), int(n_bins), _SAH_MAX_DEPTH, order, bounds, child, first, count,
+                            tasks, task_cbox, base, used, depths)
+        depth = max(depth, int(depths.max()))
+        by_start = np.argsort(tasks[:, 1], kind="stable")  # compact in the order of the ranges
+        tasks, base, used = tasks[by_start], base[by_start], used[by_start]
+        n_nodes = n_top + int((used - base).sum())
+        out_bounds = np.empty((n_nodes, 2, 3))
+        out_child = np.empty((n_nodes, 2), dtype=np.int64)
+        out_first = np.empty(n_nodes, dtype=np.int64)
+        out_count = np.empty(n_nodes, dtype=np.int64)
+        _compact_nb(n_top, tasks, base, used, bounds, child, first, count, out_bounds, out_child, out_first,
+                    out_count)
+        bounds, child, first, count = out_bounds, out_child, out_first, out_count
+    else:
+        n_nodes = n_top
+        bounds, child, first, count = (bounds[:n_nodes].copy(), child[:n_nodes].copy(), first[:n_nodes].copy(),
+                                       count[:n_nodes].copy())
     del box
     if depth >= STACK_SIZE:  # cannot happen for T < 2**30 (module doc)
         raise RuntimeError(f"build_bvh: tree depth {depth} exceeds the traversal stack")
     out = np.empty_like(tris)
     _gather_nb(tris, order, out)
-    return BVH(
-        bounds=bounds[:n_nodes].copy(),
-        child=child[:n_nodes].copy(),
-        first=first[:n_nodes].copy(),
-        count=count[:n_nodes].copy(),
-        order=order,
-        tris=out,
-    )
+    return BVH(bounds=bounds, child=child, first=first, count=count, order=order, tris=out)
