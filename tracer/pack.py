@@ -21,7 +21,8 @@ from .bvh import build_bvh
 from .geometry import origin_epsilon
 from .layout import PackedScene
 from .limits import MAX_MAGNITUDE
-from .meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces, weld_vertices
+from .meshes import (computed_vertex_normals, corner_normals, face_normals, orient_faces, triangle_records,
+                     weld_vertices)
 from .scene import Scene, unit_vector
 
 __all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
@@ -81,9 +82,10 @@ def _perpendicular(up):
     return ref / np.linalg.norm(ref)
 
 
-def _mesh_triangles(mesh, material):
-    """A mesh's triangles (T, 3, 3) and their TRIANGLE records (unit normal oriented by the
-    coursework's rule, vertex normals for smooth shading), faces of zero area left out."""
+def _mesh_triangles(mesh):
+    """A mesh's triangles (T, 3, 3), their unit normals (T, 3) oriented by the coursework's rule
+    (:func:`tracer.meshes.orient_faces`) and, for smooth shading, their corner normals
+    (T, 3, 3) (``None`` for flat shading); faces of zero area left out."""
     v = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
     f = np.ascontiguousarray(mesh.faces, dtype=np.int64)
     if mesh.shading not in ("flat", "smooth"):
@@ -94,10 +96,7 @@ def _mesh_triangles(mesh, material):
     weld = weld_vertices(v)
     flip, _ = orient_faces(v, f, nrm, weld)
     nrm[flip] *= -1.0
-    info = np.zeros(len(f), lay.TRIANGLE)
-    info["normal"] = nrm
-    info["surface"] = lay.SURFACE_PHONG
-    info["index"] = material
+    corners = None
     if mesh.shading == "smooth":
         vn = mesh.normals
         if vn is None:
@@ -105,9 +104,22 @@ def _mesh_triangles(mesh, material):
         elif np.shape(vn) != v.shape:
             raise ValueError(f"mesh {mesh.name!r}: normals must have the shape of vertices {v.shape}"
                              f" (got {np.shape(vn)})")
-        info["vertex_normals"] = corner_normals(vn, f, nrm)
-        info["smooth"] = True
-    return v[f], info
+        corners = corner_normals(vn, f, nrm)
+    return v[f], nrm, corners
+
+
+def _triangle_records(parts, order):
+    """The TRIANGLE records in BVH order (*order*) of the meshes' parts ``(normals, corner
+    normals or None, material index)``."""
+    n = [len(p[0]) for p in parts]
+    if not sum(n):
+        return np.zeros(0, lay.TRIANGLE)
+    normals = _concatenate([p[0] for p in parts], None)
+    smooth = np.repeat([p[1] is not None for p in parts], n)
+    corners = (_concatenate([p[1] if p[1] is not None else np.zeros((len(p[0]), 3, 3)) for p in parts], None)
+               if smooth.any() else None)
+    material = np.repeat(np.array([p[2] for p in parts], dtype=np.int64), n)
+    return triangle_records(order, normals, corners, material, smooth, lay.SURFACE_PHONG)
 
 
 SPECTRAL_METHODS = ("auto", "point", "band")
@@ -314,19 +326,18 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
         spheres[len(scene.spheres) + b] = (bub.center, bub.radius, lay.SURFACE_FILM, b)
 
     # triangles of all meshes, one BVH
-    tri_list, info_list = [], []
+    tri_list, parts = [], []
     for m in scene.meshes:
-        tri, info = _mesh_triangles(m, material_id(m.material))
+        tri, nrm, corners = _mesh_triangles(m)
         tri_list.append(tri)
-        info_list.append(info)
+        parts.append((nrm, corners, material_id(m.material)))
     tris = _concatenate(tri_list, np.zeros((0, 3, 3)))
-    triangles = _concatenate(info_list, np.zeros(0, lay.TRIANGLE))
-    del tri_list, info_list
+    del tri_list
     max_tri_coordinate = max(float(tris.max()), -float(tris.min())) if len(tris) else 0.0
     bvh = build_bvh(tris, overwrite=True)
     del tris
-    if len(triangles):  # reordered as raw rows (NumPy's gather of records is field by field)
-        triangles = triangles.view(np.uint8).reshape(len(triangles), -1)[bvh.order].view(lay.TRIANGLE).ravel()
+    triangles = _triangle_records(parts, bvh.order)
+    del parts
 
     phong = np.zeros(len(materials), lay.PHONG)
     for i, m in enumerate(materials):
