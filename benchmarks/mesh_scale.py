@@ -16,9 +16,9 @@ normals: :func:`write_ply`) into a temporary folder, each named by a TOML scene 
 Sizes about 10k, 100k and 1M triangles.  The mesh spans about 60 % of the image's height, lit
 by one point light, Phong material with a mirror term (so that reflected rays are traced), a
 constant environment.  Every (shape, size, repeat) runs in a fresh child process
-(``--child``): it first imports trimesh and renders a small mesh scene so that numba's kernels
-are loaded from its cache (neither timed: a process pays them once, whatever the mesh), then
-times
+(``--child``): it first imports trimesh, reads and renders a small mesh file the same way and
+builds a BVH big enough for threads, so that numba's kernels are loaded from its cache (none
+of this timed: a process pays it once, whatever the mesh), then times
 
 * ``load``: ``tracer.load_scene`` of the TOML file (trimesh reads the PLY, zero-area check);
 * ``pack``: ``tracer.pack.pack_scene`` inside the render (orientation, vertex normals, BVH),
@@ -128,17 +128,23 @@ def child(toml, size, threads):
     import numba
 
     import tracer
+    import tracer.bvh
     import tracer.pack as pack
-    from tracer.scene import Mesh, PointLight, Scene
 
     numba.set_num_threads(threads)
-    import trimesh  # noqa: F401  (imported by the first mesh file a process reads: 0.3-0.5 s, not timed)
+    import trimesh  # (imported by the first mesh file a process reads: 0.3-0.5 s, not timed)
 
-    # load numba's kernels from the cache (a small mesh scene), not timed
-    small = Scene(meshes=[Mesh(vertices=np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]),
-                               faces=np.array([[0, 1, 2]]), shading="smooth")],
-                  lights=[PointLight(position=(0.0, 0.0, 3.0))])
-    tracer.render(small, width=8, height=8, progress=False)
+    # load numba's kernels from the cache, not timed: a small mesh file read and rendered the
+    # same way (closed, convex, smooth), and a BVH big enough to be built in threads
+    warm = Path(toml).parent / "warm_up.toml"
+    if not warm.exists():
+        write_ply(warm.with_suffix(".ply"), np.asarray(trimesh.creation.icosphere(1).vertices),
+                  np.asarray(trimesh.creation.icosphere(1).faces))
+        warm.write_text(SCENE.format(shape="warm_up", faces=80, path=warm.with_suffix(".ply").name), encoding="utf-8")
+    tracer.render(tracer.load_scene(warm), width=8, height=8, progress=False)
+    rng = np.random.default_rng(0)
+    tracer.bvh.build_bvh(rng.uniform(-1, 1, (2 * tracer.bvh.PARALLEL_MIN + 1, 1, 3))
+                         + 0.01 * rng.normal(size=(2 * tracer.bvh.PARALLEL_MIN + 1, 3, 3)))
 
     timers = {"pack": 0.0, "bvh": 0.0}
 
