@@ -19,7 +19,7 @@ whole build O(T log T) time and O(T) memory, with no Python per node or per leve
 * Every node with more than :data:`LEAF_SIZE` triangles is split (no SAH leaf test): the leaf
   size is a bound the traversal may rely on.
 * Above 2 x :data:`PARALLEL_MIN` triangles the top of the tree is built first, down to nodes
-  of at most max(T / 32, PARALLEL_MIN) triangles, and those subtrees are then built in numba's
+  of at most max(T / 8, PARALLEL_MIN) triangles, and those subtrees are then built in numba's
   threads (:func:`_build_tasks_nb`), each into its own range of node ids, which are compacted
   afterwards: the same splits as one thread would make (every split depends on its node's
   triangles and depth only), so the tree does not depend on the number of threads.
@@ -70,7 +70,7 @@ N_BINS = 12
 _SAH_MAX_DEPTH = 32
 
 #: Meshes of more than twice this many triangles have their subtrees of at most
-#: max(T / 32, this) triangles built in parallel (numba threads).
+#: max(T / 8, this) triangles built in parallel (numba threads).
 PARALLEL_MIN = 16384
 
 _EPS = 2.0**-52
@@ -110,16 +110,20 @@ def _degenerate_nb(tris, out):
         if not (size > 0.0):
             out[i] = True
             continue
-        e = math.frexp(size)[1]  # scale by 2**-e: exact, and no squares under- or overflow
-        x0 = math.ldexp(tris[i, 0, 0], -e)
-        y0 = math.ldexp(tris[i, 0, 1], -e)
-        z0 = math.ldexp(tris[i, 0, 2], -e)
-        x1 = math.ldexp(tris[i, 1, 0], -e)
-        y1 = math.ldexp(tris[i, 1, 1], -e)
-        z1 = math.ldexp(tris[i, 1, 2], -e)
-        x2 = math.ldexp(tris[i, 2, 0], -e)
-        y2 = math.ldexp(tris[i, 2, 1], -e)
-        z2 = math.ldexp(tris[i, 2, 2], -e)
+        e = math.frexp(size)[1]
+        if e < -1000:  # below 1e-301: no test could hit it (nor scale it: 2**1000 is the limit)
+            out[i] = True
+            continue
+        s = math.ldexp(1.0, -e)  # scale by 2**-e: exact, and no squares under- or overflow
+        x0 = tris[i, 0, 0] * s
+        y0 = tris[i, 0, 1] * s
+        z0 = tris[i, 0, 2] * s
+        x1 = tris[i, 1, 0] * s
+        y1 = tris[i, 1, 1] * s
+        z1 = tris[i, 1, 2] * s
+        x2 = tris[i, 2, 0] * s
+        y2 = tris[i, 2, 1] * s
+        z2 = tris[i, 2, 2] * s
         e1x = x1 - x0
         e1y = y1 - y0
         e1z = z1 - z0
@@ -135,7 +139,7 @@ def _degenerate_nb(tris, out):
         area2 = math.sqrt(cx * cx + cy * cy + cz * cz)
         longest = math.sqrt(max(e1x * e1x + e1y * e1y + e1z * e1z, e2x * e2x + e2y * e2y + e2z * e2z,
                                 e3x * e3x + e3y * e3y + e3z * e3z))
-        out[i] = not (area2 > 16.0 * _EPS * math.ldexp(size, -e) * longest)
+        out[i] = not (area2 > 16.0 * _EPS * (size * s) * longest)
 
 
 def degenerate_triangles(tris):
@@ -153,7 +157,8 @@ def degenerate_triangles(tris):
     warning (:mod:`tracer.coursework_format`, :mod:`tracer.toml_scene`), and :func:`build_bvh`
     collapses any left in a mesh built in code.  One numba pass (no (T, 3) temporaries); each
     triangle is first scaled by the power of two nearest its size (exact), so the squares in
-    the test neither underflow (coordinates ~1e-150) nor overflow (~1e150).
+    the test neither underflow (coordinates ~1e-150) nor overflow (~1e150); a triangle within
+    1e-301 of the origin counts as zero area.
     """
     tris = np.ascontiguousarray(np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3))
     out = np.empty(tris.shape[0], dtype=np.bool_)
@@ -639,7 +644,7 @@ def build_bvh(triangles, leaf_size=LEAF_SIZE, n_bins=N_BINS, *, overwrite=False)
     _range_bounds(box, 0, T, root)
     # the top of the tree in this thread, down to nodes of at most `cutoff` triangles (a
     # function of T alone, so the tree is the same for every thread count) ...
-    cutoff = max(T // 32, PARALLEL_MIN) if T > 2 * PARALLEL_MIN else 0
+    cutoff = max(T // 8, PARALLEL_MIN) if T > 2 * PARALLEL_MIN else 0
     # room for the top nodes and the tasks: at each depth (< STACK_SIZE) at most T / cutoff
     # disjoint nodes have more than `cutoff` triangles, and each split makes two nodes
     n_room = 2 * STACK_SIZE * (T // cutoff + 1) + 2 if cutoff else 0
