@@ -337,3 +337,17 @@ def test_mesh_coordinates_beyond_the_limit_are_one_line_errors(tmp_path):
         load_toml_scene(scaled)
     assert str(info.value) == (f"{scaled}:3: meshes[0].scale: the mesh's vertices reach 2e+15, beyond 1e+15"
                                " (tracer.limits)")
+
+
+@pytest.mark.api
+def test_a_mesh_built_in_code_with_bad_shading_fields_is_refused_when_packed():
+    from tracer.pack import pack_scene
+
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    f = np.array([[0, 1, 2]])
+    with pytest.raises(ValueError, match=r"^mesh 'm': shading must be 'flat' or 'smooth' \(got 'phong'\)$"):
+        pack_scene(Scene(meshes=[Mesh(vertices=v, faces=f, shading="phong", name="m")]))
+    with pytest.raises(ValueError, match=r"^mesh 'm': normals must have the shape of vertices \(3, 3\)"):
+        pack_scene(Scene(meshes=[Mesh(vertices=v, faces=f, shading="smooth", normals=np.ones((2, 3)), name="m")]))
+    packed = pack_scene(Scene(meshes=[Mesh(vertices=v, faces=f, shading="flat", normals=np.ones((3, 3)))]))
+    assert not packed.triangles["smooth"].any()  # flat: the normals are kept in the Mesh, not used

@@ -12,8 +12,8 @@ every face normal is turned to point away from the centroid of the vertices; oth
 file's winding is kept**.  "Convex" means: every vertex lies on the inner side of every face's
 plane (normal turned away from the centroid), within
 :math:`\\tau = 10^{-9}(\\max|x| + 1)` scene units.  Checking that literally costs V x F; it is
-decided here in O(V + F) memory and, for closed meshes, O(F log F) time
-(:func:`orient_faces`):
+decided here in O(V + F) memory and about linear time (a hash table, a counting sort, passes
+over the faces; :func:`orient_faces`):
 
 1. *Flat* (every vertex within :math:`\\tau` of one plane): there is no outside; the file's
    winding is kept.
@@ -22,8 +22,8 @@ decided here in O(V + F) memory and, for closed meshes, O(F log F) time
    not flat has vertices on both sides, so such a mesh is not convex.  The normals are
    turned away from *c*.
 3. Vertices are welded by exact position (so a seam of duplicated vertices, or an STL file
-   with three vertices per triangle, still has shared edges) and the edges are matched by
-   sorting.  At every edge shared by two faces, each face's opposite vertex must lie on the
+   with three vertices per triangle, still has shared edges) and the edges are matched by a
+   counting sort.  At every edge shared by two faces, each face's opposite vertex must lie on the
    inner side of the other face's plane (within :math:`\\tau`).  A failure is a vertex outside
    a face plane: not convex, exactly as the literal rule says.
 4. If every edge is shared by exactly two faces (a closed mesh): the turned normals must wind
@@ -40,6 +40,12 @@ decided here in O(V + F) memory and, for closed meshes, O(F log F) time
    plane, when V x F is at most :data:`EXACT_CHECK_PAIRS` (a numba loop, no matrix); a larger
    one keeps the file's winding (local convexity does not make an open surface convex: a
    spiral strip is locally convex everywhere).
+
+Why not a library: ``trimesh.Trimesh.is_convex`` decides from the edges too, but only for a
+watertight mesh in one body with a consistent winding (the coursework's files have none of
+these guaranteed, and the rule asks for none), and scipy's ``ConvexHull`` (Qhull), which would decide the
+rule through the hull's facets, takes seconds to tens of seconds when every vertex is on the
+hull, as on any finely tessellated convex object (``docs/performance.md``).
 
 Shading normals
 ---------------
