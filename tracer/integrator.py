@@ -295,6 +295,8 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, d0, ve
         r2 = a2
     scale = weight / n
     if lt.falloff == FALLOFF_INVERSE_SQUARE:
+        if not r2 > _R2_MIN:
+            return  # a subnormal sphere around the point: lights nothing, as a point light on it
         scale /= r2  # S = I / (pi max(d, a)^2)
     b1, b2 = orthonormal_basis(axis)
     key = direction_key(d0)
