@@ -511,3 +511,27 @@ def test_python_lights_the_renderer_cannot_use_are_refused(change, message):
     scene = floor_scene([PointLight((0.0, 2.0, 0.0), **({"intensity": 1.0} | change))])
     with pytest.raises(ValueError, match=re.escape(message)):
         tracer.render(scene, width=2, height=2, progress=False)
+
+
+@pytest.mark.api
+def test_the_documented_soft_shadow_example_loads_and_its_picture_script_runs(tmp_path):
+    """docs/scene-format.md's lights example is a valid scene (a spherical light in watts), and
+    docs/images/make_soft_shadow.py renders it (quick mode) into a two-panel PNG."""
+    import importlib.util
+    from pathlib import Path
+
+    from PIL import Image
+
+    script = Path(__file__).resolve().parent.parent / "docs" / "images" / "make_soft_shadow.py"
+    spec = importlib.util.spec_from_file_location("make_soft_shadow", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    scene = parse_toml_text(module.example_toml())
+    (light,) = scene.lights
+    assert light.falloff == "inverse_square" and light.radius > 0 and light.samples > 1
+    np.testing.assert_allclose(light.intensity, 80.0 / (4 * math.pi))
+    out = tmp_path / "soft.png"
+    module.main(["--quick", "--out", str(out)])
+    w, h = scene.render_defaults["width"] // 4, scene.render_defaults["height"] // 4
+    with Image.open(out) as img:
+        assert img.size[1] == h and img.size[0] > 2 * w

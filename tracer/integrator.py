@@ -3,8 +3,10 @@
 Per camera sample, an explicit stack of rays (origin, direction, per-channel throughput w,
 generation; generation 1 is the camera ray).  A ray that leaves the scene adds
 w × environment.  At a hit the surface (:mod:`tracer.surfaces`, which this module never looks
-inside) tells what it adds from the ambient light and from each point light (those through a
-shadow ray that multiplies the transmittance of everything it crosses), and the weights of
+inside) tells what it adds from the ambient light and from each light (through a shadow ray
+that multiplies the transmittance of everything it crosses: one to a point light, one per
+sample direction to a spherical light, :func:`sphere_light`; the radiometry, falloff included,
+is on :class:`tracer.scene.PointLight`), and the weights of
 its two children, a mirror ray and a transmitted ray.  A child is traced if its generation is
 at most ``depth`` and, when ``threshold > 0``, the largest channel of its throughput exceeds
 ``threshold``; a light's shadow ray is cast only if the light's largest possible contribution
@@ -60,6 +62,9 @@ __all__ = [
     "Workspace",
     "new_workspace",
     "closest_hit",
+    "light_terms",
+    "shadow_transmittance",
+    "sphere_light",
     "trace_camera_ray",
     "render_rows",
 ]
