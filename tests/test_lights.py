@@ -315,6 +315,20 @@ def test_any_sphere_light_gives_a_finite_non_negative_image(cx, cy, radius, samp
         assert img.max() <= 4.0 * strength * (1 + 1e-12)
 
 
+@pytest.mark.property
+@pytest.mark.parametrize("centre, radius", [((0.0, 2.0, 0.0), 1e200), ((0.0, 1e300, 0.0), 1.0),
+                                            ((1e200, 1e200, 0.0), 1e180), ((0.0, 2.0, 0.0), 5e-324)])
+@pytest.mark.parametrize("falloff", ["none", "inverse_square"])
+def test_absurd_sphere_lights_give_finite_images(centre, radius, falloff):
+    """Radii and distances whose squares overflow or underflow: finite, non-negative pixels
+    (a light beyond the range of doubles lights nothing; inside a huge one, its shadow rays
+    have infinite length)."""
+    scene = floor_scene([PointLight(centre, 1.0, falloff=falloff, radius=radius, samples=4)],
+                        spheres=[Sphere((0.2, 0.5, 0.0), 0.3, OPAQUE)])
+    img = render(scene, 5, 5)
+    assert np.isfinite(img).all() and img.min() >= 0.0
+
+
 # ------------------------------------------------------------------------------------------
 # Sampling: stratified, deterministic
 # ------------------------------------------------------------------------------------------

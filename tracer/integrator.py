@@ -64,6 +64,7 @@ __all__ = [
     "closest_hit",
     "light_terms",
     "shadow_transmittance",
+    "shadow_along",
     "sphere_light",
     "trace_camera_ray",
     "render_rows",
@@ -221,17 +222,36 @@ def light_terms(lpos, p, nf, d):
 
 
 @njit(**_INLINE)
+def direction_terms(u, nf, d):
+    """(N.L, R.V) of :func:`light_terms` for the unit direction *u* toward the light."""
+    ndl = u[0] * nf[0] + u[1] * nf[1] + u[2] * nf[2]
+    if not ndl > 0.0:
+        return 0.0, 0.0
+    rl = 2.0 * ndl
+    rv = -((rl * nf[0] - u[0]) * d[0] + (rl * nf[1] - u[1]) * d[1] + (rl * nf[2] - u[2]) * d[2])
+    return ndl, max(rv, 0.0)
+
+
+@njit(**_INLINE)
 def shadow_transmittance(scene, ws, p, lpos, trans):
     """Transmittance per channel (into *trans*) from *p* to the light at *lpos*; False if zero."""
     dx = lpos[0] - p[0]
     dy = lpos[1] - p[1]
     dz = lpos[2] - p[2]
     dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if not dist > 0.0:
+        for c in range(trans.shape[0]):
+            trans[c] = 1.0
+        return True
+    return shadow_along(scene, ws, p, (dx / dist, dy / dist, dz / dist), dist, trans)
+
+
+@njit(**_INLINE)
+def shadow_along(scene, ws, p, d, dist, trans):
+    """Transmittance per channel (into *trans*) of the shadow ray from *p* along the unit
+    direction *d* up to the distance *dist* (may be inf); False if zero."""
     for c in range(trans.shape[0]):
         trans[c] = 1.0
-    if not dist > 0.0:
-        return True
-    d = (dx / dist, dy / dist, dz / dist)
     ws.counts[3] += 1
     tstart = 0.0
     for _ in range(MAX_SHADOW_CROSSINGS):
@@ -262,7 +282,7 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, d0, ve
 
     f(ω_k) is the surface's answer to :func:`tracer.surfaces.toward_light` with N·L and R·V
     of the direction ω_k (diffuse, Phong and film highlights alike), V(ω_k) the transmittance
-    of a shadow ray from *p_front* to the point where ω_k meets the sphere's near side.  A
+    of a shadow ray from *p_front* along ω_k to where it meets the sphere's near side.  A
     point inside the sphere (or on it) samples the whole sphere of directions, whose weight is
     4 (Ω / (π sin²α) with Ω = 4π, sin α = 1), and meets the far side; no NaN anywhere (d = 0
     included).  The directions are :func:`tracer.sampling.cone_sample` of the camera ray's key
@@ -283,6 +303,8 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, d0, ve
     cz = c[2] - p[2]
     d2 = cx * cx + cy * cy + cz * cz
     a2 = a * a
+    if not d2 < np.inf:
+        return  # the light is beyond the range of doubles from here (and lights nothing)
     if d2 > a2:
         dist = math.sqrt(d2)
         s2 = a2 / d2  # sin^2(alpha)
@@ -308,12 +330,7 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, d0, ve
     stream = vertex * scene.lights.shape[0] + j
     for k in range(n):
         om = cone_sample(key, stream, k, n, axis, b1, b2, one_minus_cos)
-        # where om meets the sphere: t^2 - 2 b t + (d^2 - a^2) = 0
-        b = om[0] * cx + om[1] * cy + om[2] * cz
-        disc = max(0.0, b * b - (d2 - a2))  # >= 0 inside the cone, up to rounding at its rim
-        t = b + math.sqrt(disc) if inside else max(0.0, b - math.sqrt(disc))
-        target = (p[0] + t * om[0], p[1] + t * om[1], p[2] + t * om[2])
-        ndl, rv = light_terms(target, p, nf, d)
+        ndl, rv = direction_terms(om, nf, d)
         if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w):
             continue
         if threshold > 0.0:
@@ -322,7 +339,11 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, d0, ve
                 bound = max(bound, w[ch] * light_w[ch] * (rad[j, ch] * scale))
             if bound * n <= threshold:
                 continue
-        if shadow_transmittance(scene, ws, p_front, target, trans):
+        # where om meets the sphere: t^2 - 2 b t + (d^2 - a^2) = 0 (t may be inf for a huge one)
+        b = om[0] * cx + om[1] * cy + om[2] * cz
+        disc = max(0.0, b * b - (d2 - a2))  # >= 0 inside the cone, up to rounding at its rim
+        t = b + math.sqrt(disc) if inside else max(0.0, b - math.sqrt(disc))
+        if shadow_along(scene, ws, p_front, om, t, trans):
             for ch in range(nc):
                 L[ch] += w[ch] * light_w[ch] * (rad[j, ch] * scale) * trans[ch]
 

@@ -173,7 +173,9 @@ class PointLight:
     from its whole upper hemisphere (E = π L_e).  ``radius`` 0 is exactly the point light (one
     shadow ray to the centre).  The sample directions are a hash of the camera ray, the shaded
     point's place in its ray tree, the light and the sample (:func:`tracer.sampling.cone_sample`),
-    so an image does not depend on the thread count or the run.
+    so an image does not depend on the thread count or the run.  (The camera ray depends on
+    the render's seed only when there is more than one sample per pixel: at ``spp=1`` every
+    seed gives the same light samples.)
 
     ``samples`` (1 to :data:`MAX_LIGHT_SAMPLES`) is used only when ``radius`` > 0.
     """
