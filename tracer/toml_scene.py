@@ -392,9 +392,8 @@ def parse_toml_text(text: str, path="<string>") -> Scene:
     for i, t in enumerate(c.array_of_tables(("meshes",), doc.get("meshes", []))):
         scene.meshes.append(_mesh(c, ("meshes", i), t, materials))
 
-    unit = sc.get("unit", "m")
     for i, t in enumerate(c.array_of_tables(("lights",), doc.get("lights", []))):
-        scene.lights.append(_light(c, ("lights", i), t, unit))
+        scene.lights.append(_light(c, ("lights", i), t, sc.get("unit", "m")))
 
     if not (scene.spheres or scene.bubbles or scene.meshes):
         raise SceneError(path, None, "no objects: the file has no [[spheres]], [[bubbles]] or [[meshes]]")
