@@ -54,10 +54,15 @@ def _number_type(convert, accept, expected, expected_value=None):
 _positive_int = _number_type(int, lambda v: v >= 1, "a positive integer")
 _nonnegative_int = _number_type(int, lambda v: v >= 0, "an integer >= 0")
 _threshold = _number_type(float, lambda v: v >= 0 and v < float("inf"), "a number >= 0", "a finite number >= 0")
+#: tracer.output.MAX_EXPOSURE (not imported here: the parser is built before anything heavy)
+_MAX_EXPOSURE = 64.0
+_exposure = _number_type(float, lambda v: -_MAX_EXPOSURE <= v <= _MAX_EXPOSURE, "a number of stops",
+                         f"a number of stops in [{-_MAX_EXPOSURE:g}, {_MAX_EXPOSURE:g}]")
 
 
 #: Options whose default comes from a TOML scene's [render] table when it has one, else DEFAULTS.
-_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method")
+_SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method",
+                    "exposure", "view")
 
 
 def _add_render_options(p):
@@ -75,7 +80,15 @@ def _add_render_options(p):
     p.add_argument("--seed", type=_nonnegative_int, help="random seed for sample positions")
     p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
                    help="replace the environment by this constant linear-RGB colour")
-    p.add_argument("--bits", type=int, choices=(8, 16), default=8, help="PNG bit depth")
+    p.add_argument("--bits", type=int, choices=(8, 16, 32), default=None,
+                   help="bits per channel: .png 8 (default) or 16; .exr 32 (float, default) or 16 (half)")
+    p.add_argument("--exposure", type=_exposure, metavar="STOPS",
+                   help="display exposure of a .png: the image times 2**STOPS (default 0)")
+    p.add_argument("--view", choices=("clip", "aces"),
+                   help="display view of a .png: clip each channel to [0, 1] (clip, the default) or "
+                        "the ACES 2.0 filmic view (aces; needs opencolorio)")
+    p.add_argument("--spectral-out", metavar="FILE.npz",
+                   help="also save the per-band spectral image with its wavelengths (forces spectral transport)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -87,7 +100,8 @@ def build_parser():
     parser = _Parser(prog="tracer", description="A spectral Whitted ray tracer for soap-bubble scenes.",
                      epilog=epilog)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    img = sub.add_parser("image", help="render a scene to an image (.png, or .npy linear float)",
+    img = sub.add_parser("image", help="render a scene to an image (.png; linear float .npy, .exr, .hdr; "
+                                       "the spectral image .npz)",
                          description="Render SCENE (or the built-in bubble scene) to OUT.", epilog=epilog)
     img.add_argument("paths", nargs="+", metavar="[SCENE] OUT", help="scene file (optional) and output image")
     img.add_argument("--depth", type=_positive_int, help="maximum ray generation")
@@ -108,13 +122,35 @@ def _fail(message):
     return EXIT_BAD_INPUT
 
 
-def _check_output(out):
+def _check_output(out, bits=None, exposure=None, view=None, suffixes=None):
+    """*out* as a Path, if its suffix is one of *suffixes* (default: every output,
+    :data:`tracer.output.OUTPUT_SUFFIXES`), its folder exists, and the options given on the
+    command line (None: not given) suit it; else ValueError (one line)."""
+    from .output import DISPLAY_DEFAULTS, OUTPUT_SUFFIXES, _check_settings
+
     out = Path(out)
-    if out.suffix.lower() not in (".png", ".npy"):
-        raise ValueError(f"{out}: output must end in .png or .npy")
+    suffixes = tuple(suffixes or OUTPUT_SUFFIXES)
+    if out.suffix.lower() not in suffixes:
+        raise ValueError(f"{out}: output must end in {', '.join(suffixes[:-1])} or {suffixes[-1]}"
+                         if len(suffixes) > 1 else f"{out}: output must end in {suffixes[0]}")
     if not out.parent.exists() or not out.parent.is_dir():
         raise ValueError(f"{out}: folder {out.parent} does not exist")
+    _check_settings(out, out.suffix.lower(), bits, DISPLAY_DEFAULTS["exposure"] if exposure is None else exposure,
+                    DISPLAY_DEFAULTS["view"] if view is None else view)
     return out
+
+
+def _display_settings(args, settings, out):
+    """``exposure`` and ``view`` for :func:`tracer.save_image` of *out*: for a display image
+    (.png) the resolved settings (the option, else the scene's [render] table, else the
+    defaults); for a float output only those given on the command line (which
+    :func:`_check_output` has refused), so that a scene's display defaults do not stop it
+    from being saved as .npy, .exr or .hdr."""
+    from .output import DISPLAY_DEFAULTS, is_display_output
+
+    if is_display_output(out):
+        return {k: settings.get(k, v) for k, v in DISPLAY_DEFAULTS.items()}
+    return {k: getattr(args, k) for k in DISPLAY_DEFAULTS if getattr(args, k) is not None}
 
 
 def _load_scene(path):
@@ -162,6 +198,7 @@ def main(argv=None):
 def _main(argv=None):
     args = build_parser().parse_args(argv)
     from .errors import SceneError
+    from .output import save_spectral
     from .render import render_with_stats, save_image
 
     try:
@@ -171,7 +208,9 @@ def _main(argv=None):
             scene_path, out = (None, args.paths[0]) if len(args.paths) == 1 else args.paths
         else:
             scene_path, out = args.scene, args.out
-        out = _check_output(out)
+        out = _check_output(out, bits=args.bits, exposure=args.exposure, view=args.view)
+        spectral_out = _check_output(args.spectral_out, suffixes=(".npz",)) if args.spectral_out else None
+        spectral_image = spectral_out is not None or out.suffix.lower() == ".npz"
         if scene_path is None:
             from .builtin import default_scene
 
@@ -186,9 +225,14 @@ def _main(argv=None):
         image, stats = render_with_stats(
             scene, width=s["width"], height=s["height"], depth=s["depth"], spp=s["spp"], threshold=s["threshold"],
             spectral_samples=s["spectral_samples"], seed=s["seed"], spectral_method=s["spectral_method"],
-            progress=False if args.quiet else None,
+            progress=False if args.quiet else None, spectral_image=spectral_image,
         )
-        save_image(image, out, bits=args.bits)
+        if out.suffix.lower() == ".npz":
+            save_spectral(stats.spectral_image, out)
+        else:
+            save_image(image, out, bits=args.bits, **_display_settings(args, s, out))
+        if spectral_out is not None:
+            save_spectral(stats.spectral_image, spectral_out)
     except SceneError as err:
         return _fail(str(err))
     except (ValueError, OSError) as err:

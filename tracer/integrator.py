@@ -378,15 +378,17 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold):
 
 
 @njit(**_NO_NRT)
-def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, counts):
+def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, counts, spectrum):
     """Render image row *y* (see :func:`render_rows`) with the thread's workspace *ws*."""
     cam = scene.camera[0]
     env = scene.environment[0]
     o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
     M = scene.rgb_round_trip
     to_rgb = scene.to_rgb
+    basis = scene.rgb_basis
     L = ws.L
     nc = L.shape[0]
+    keep = spectrum.shape[0] > 0  # the per-channel image is wanted too
     ray_counts = ws.counts
     for i in range(N_COUNTS):  # here, not in render_rows' parallel loop: numba's parfor pass
         ray_counts[i] = 0  # hoisted that reset out of the loop over a task's rows
@@ -395,6 +397,9 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
         r = 0.0
         g = 0.0
         b = 0.0
+        if keep:
+            for c in range(nc):
+                spectrum[y, x, c] = 0.0
         for s in range(spp):
             fx, fy = stratified_offset(seed, pix, s, spp)
             d0 = camera_ray(cam, x + fx, y + fy, width, height)
@@ -406,23 +411,38 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
                 r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
                 g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
                 b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
+                if keep:  # the channels the RGB above came from (M = to_rgb @ basis)
+                    for c in range(nc):
+                        spectrum[y, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
                 continue
             trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold)
             for c in range(nc):
                 r += to_rgb[0, c] * L[c]
                 g += to_rgb[1, c] * L[c]
                 b += to_rgb[2, c] * L[c]
+            if keep:
+                for c in range(nc):
+                    spectrum[y, x, c] += L[c]
         image[y, x, 0] = r / spp
         image[y, x, 1] = g / spp
         image[y, x, 2] = b / spp
+        if keep:
+            for c in range(nc):
+                spectrum[y, x, c] /= spp
     for i in range(N_COUNTS):
         counts[y, i] = ray_counts[i]
 
 
 @njit(parallel=True, **_JIT)
-def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, threshold, image, counts):
+def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, threshold, image, counts, spectrum):
     """Render the rows ``rows`` (int64, distinct, any order) of ``image`` (height, width, 3:
     linear sRGB) and their ray counts into ``counts`` (height, N_COUNTS).
+
+    *spectrum*: an array (height, width, C) float64, C the scene's channels
+    (``scene.rgb_basis.shape[0]``), into which each pixel's mean radiance per channel is
+    written as well (the RGB pixel is ``scene.to_rgb`` times it, up to rounding), or an array
+    with no rows (``np.zeros((0, 0, 0))``) for none: one branch per sample, no second
+    compilation.
 
     The rows are handed out in tasks of *rows_per_task* consecutive entries of *rows*, each
     with one workspace (allocating one per row cost the threads a contended allocator).  Rows
@@ -435,4 +455,4 @@ def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, thr
     for task in prange(n_tasks):
         ws = new_workspace(scene, depth)
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
-            render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts)
+            render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts, spectrum)

@@ -38,6 +38,7 @@ from bubbleoptics.colorimetry import srgb_to_linear_srgb
 from .assets import AssetError, load_environment_image, load_film_map, load_mesh_file
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
+from .output import MAX_EXPOSURE, VIEWS
 from .scene import (
     Bubble,
     Camera,
@@ -328,8 +329,9 @@ _FILM_KEYS = {
     "map": {"kind", "path"} | _SWIRL_KEYS,
 }
 _RENDER_INT = {"width": 1, "height": 1, "depth": 1, "spp": 1, "spectral_samples": 1, "seed": 0}
-_RENDER_FLOAT = {"threshold": 0.0}
-_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band")}
+#: number keys: (lowest, highest or None)
+_RENDER_FLOAT = {"threshold": (0.0, None), "exposure": (-MAX_EXPOSURE, MAX_EXPOSURE)}
+_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band"), "view": VIEWS}
 
 
 def parse_toml_text(text: str, path="<string>") -> Scene:
@@ -463,7 +465,7 @@ def _render(c: _Ctx, t) -> dict:
                 raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {v!r}")
             out[key] = v
         else:
-            out[key] = c.number(kp + (key,), v, _RENDER_FLOAT[key])
+            out[key] = c.number(kp + (key,), v, *_RENDER_FLOAT[key])
     return out
 
 
