@@ -321,8 +321,8 @@ def display_image(image, *, exposure=0.0, view="clip"):
     shown with *exposure* (stops) and *view* (module docstring), before rounding to codes:
     for plotting (``matplotlib.pyplot.imshow`` takes it as it is).
 
-    >>> display_image(np.array([[[0.0, 0.18, 1.0]]])).round(4)
-    array([[[0.    , 0.4614, 1.    ]]])
+    >>> [round(v, 4) for v in display_image(np.array([[[0.0, 0.18, 1.0]]]))[0, 0].tolist()]
+    [0.0, 0.4614, 1.0]
     """
     from bubbleoptics.colorimetry import linear_srgb_to_srgb
 
