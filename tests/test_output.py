@@ -306,7 +306,7 @@ def decode_rgbe(data):
 
 @pytest.mark.reference
 @pytest.mark.parametrize("w", [23, 300])  # flat scanlines (narrower than 8 are not the case here) and RLE
-def test_hdr_round_trip(tmp_path, w):
+def test_hdr_round_trip(tmp_path, w, small_chunks):
     cv2 = pytest.importorskip("cv2")
     image = test_image(h=7, w=w)
     image[1, :5] = [[0.0, 0.0, 0.0], [1e-30, 0, 0], [5.0, 5.0, 5.0], [300.0, 0.01, -1.0], [-1.0, -1.0, -1.0]]
@@ -323,6 +323,9 @@ def test_hdr_round_trip(tmp_path, w):
     assert np.array_equal(back[1, 4], [0, 0, 0]) and back[1, 3, 2] == 0.0
     read = cv2.imread(str(tmp_path / "o.hdr"), cv2.IMREAD_UNCHANGED)[..., ::-1]
     assert np.allclose(read, back, rtol=1e-6, atol=0)
+    # written in blocks of rows (here 50 pixels each): the same bytes as OpenCV's whole image
+    whole = cv2.imencode(".hdr", np.clip(np.nan_to_num(image, nan=0.0), 0, None)[..., ::-1].astype(np.float32))[1]
+    assert (tmp_path / "o.hdr").read_bytes() == whole.tobytes()
 
 
 @pytest.mark.parametrize("suffix,module", [(".exr", "OpenEXR"), (".hdr", "cv2")])

@@ -396,18 +396,34 @@ def _write_exr(path, image, bits):
 
 
 def _write_hdr(path, image):
+    # OpenCV encodes the image (RGBE, run-length coded scanlines); a Radiance file is a header
+    # and then independent scanlines, so it is encoded a block of rows at a time and the
+    # blocks' scanlines follow one header for the whole image (OpenCV copies whatever it is
+    # given, and imencode holds the whole file in memory)
     import cv2
 
-    bgr = np.clip(image[..., ::-1], 0.0, _FLOAT32_BIG, out=np.empty(image.shape, np.float32))  # no negatives
-    np.nan_to_num(bgr, copy=False, nan=0.0)
-    ok, encoded = cv2.imencode(".hdr", bgr)  # by name: cv2.imwrite picks its writer by suffix
-    if not ok:
-        raise OSError(f"{path}: OpenCV could not encode the image as .hdr")
-    del bgr
+    h, w, _ = image.shape
+    step = max(1, CHUNK_PIXELS // max(w, 1))
+
+    def scanlines(r0):
+        rgb = image[r0:r0 + step]
+        bgr = np.clip(rgb[..., ::-1], 0.0, _FLOAT32_BIG, out=np.empty(rgb.shape, np.float32))  # no negatives
+        np.nan_to_num(bgr, copy=False, nan=0.0)
+        ok, encoded = cv2.imencode(".hdr", bgr)
+        if not ok:
+            raise OSError(f"{path}: OpenCV could not encode the image as .hdr")
+        data = encoded.tobytes()
+        end = data.index(b"\n", data.index(b"\n\n") + 2) + 1  # past the header and the size line
+        header = data[:data.index(b"\n\n") + 2]
+        return header, data[end:]
 
     def write(tmp):
         with open(tmp, "wb") as f:
-            f.write(memoryview(encoded))
+            for r0 in range(0, h, step):
+                header, data = scanlines(r0)
+                if r0 == 0:
+                    f.write(header + f"-Y {h} +X {w}\n".encode("ascii"))
+                f.write(data)
 
     write_atomically(path, write)
 
