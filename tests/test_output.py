@@ -122,6 +122,25 @@ def test_one_stop_doubles_the_linear_values(view, small_chunks):
     assert np.array_equal(half, display_codes(image * 2 ** 0.5, view=view, bits=16))
 
 
+@pytest.mark.parametrize("view", ["clip", "aces"])
+def test_extreme_values_and_exposures_warn_nothing(view):
+    if view == "aces":
+        aces_or_skip()
+    image = test_image()  # holds 1e300 and NaN
+    image[1, 1] = (-1e300, np.inf, -np.inf)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for exposure in (64, -64, 0):
+            codes = display_codes(image, exposure=exposure, view=view)
+            shown = display_image(image, exposure=exposure, view=view)
+            assert np.all(np.isfinite(shown)) and shown.min() >= 0 and shown.max() <= 1
+    assert codes[0, 1, 2] == 255  # 1e300: full blue
+    if view == "clip":
+        assert codes[0, 0, 2] == 0  # NaN as 0 (the aces view renders that pixel's green with some blue)
+
+
 def test_exposure_is_a_display_setting_not_a_change_of_the_image(tmp_path):
     image = test_image()
     before = image.copy()

@@ -265,7 +265,8 @@ def _code_chunks(image, exposure, view, bits):
     def block(r0):
         part = image[r0:r0 + step]
         if scale != 1.0:
-            part = part * scale  # exact for whole stops (a power of two)
+            with np.errstate(over="ignore"):  # overflow to inf: shown as white, as any value > 1
+                part = part * scale  # exact for whole stops (a power of two)
         codes = np.empty(part.shape, dtype)
         if view == "clip":
             srgb_encode_quantized_array(np.ascontiguousarray(part).reshape(-1), levels, codes.reshape(-1))
@@ -329,7 +330,8 @@ def display_image(image, *, exposure=0.0, view="clip"):
     image = _check_image(image)
     exposure = _check_exposure(exposure)
     view = _check_view(view)
-    x = image * 2.0 ** exposure
+    with np.errstate(over="ignore"):
+        x = image * 2.0 ** exposure
     if view == "clip":
         x = np.nan_to_num(np.clip(x, 0.0, 1.0), nan=0.0)
         return linear_srgb_to_srgb(x)
