@@ -12,7 +12,6 @@
 * ``check_output_path``: one-line errors naming the path, nothing left behind.
 """
 
-import struct
 import sys
 import tracemalloc
 from pathlib import Path

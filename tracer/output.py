@@ -31,8 +31,8 @@ suffix     what is written
   'bubbleoptics[view]'``): a filmic curve that rolls highlights off towards white instead of
   clipping them and compresses out-of-gamut colours (negative channels) into the display's
   gamut instead of clipping each channel.  Scene 1.0 shows at about 0.71 and 0.18 at about
-  0.35 (display-encoded), so it needs about one stop more exposure than ``"clip"`` for the
-  same mid-tones.
+  0.35 (display-encoded; ``"clip"`` shows 0.18 at 0.46), so it needs about three quarters of
+  a stop more exposure than ``"clip"`` for the same mid-grey.
 
 Why ACES 2.0 from OpenColorIO and not AgX or a hand-written filmic curve: it is the one
 filmic view transform maintained as a library on PyPI (OpenColorIO, Academy Software
