@@ -388,7 +388,6 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
     basis = scene.rgb_basis
     L = ws.L
     nc = L.shape[0]
-    keep = spectrum.shape[0] > 0  # the per-channel image is wanted too
     ray_counts = ws.counts
     for i in range(N_COUNTS):  # here, not in render_rows' parallel loop: numba's parfor pass
         ray_counts[i] = 0  # hoisted that reset out of the loop over a task's rows
@@ -397,7 +396,7 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
         r = 0.0
         g = 0.0
         b = 0.0
-        if keep:
+        if spectrum is not None:  # (None: pruned when compiled)
             for c in range(nc):
                 spectrum[y, x, c] = 0.0
         for s in range(spp):
@@ -411,7 +410,7 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
                 r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
                 g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
                 b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
-                if keep:  # the channels the RGB above came from (M = to_rgb @ basis)
+                if spectrum is not None:  # the channels the RGB above came from (M = to_rgb @ basis)
                     for c in range(nc):
                         spectrum[y, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
                 continue
@@ -420,13 +419,13 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
                 r += to_rgb[0, c] * L[c]
                 g += to_rgb[1, c] * L[c]
                 b += to_rgb[2, c] * L[c]
-            if keep:
+            if spectrum is not None:
                 for c in range(nc):
                     spectrum[y, x, c] += L[c]
         image[y, x, 0] = r / spp
         image[y, x, 1] = g / spp
         image[y, x, 2] = b / spp
-        if keep:
+        if spectrum is not None:
             for c in range(nc):
                 spectrum[y, x, c] /= spp
     for i in range(N_COUNTS):
@@ -440,9 +439,11 @@ def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, thr
 
     *spectrum*: an array (height, width, C) float64, C the scene's channels
     (``scene.rgb_basis.shape[0]``), into which each pixel's mean radiance per channel is
-    written as well (the RGB pixel is ``scene.to_rgb`` times it, up to rounding), or an array
-    with no rows (``np.zeros((0, 0, 0))``) for none: one branch per sample, no second
-    compilation.
+    written as well (the RGB pixel is ``scene.to_rgb`` times it, up to rounding), or None.
+    numba compiles the two separately and prunes the per-channel code from the None one, so
+    the RGB-only render is the code it was before (a run-time test instead cost the
+    coursework's three bubbles at depth 1 about 5 % against an A/A difference of 0.1 %);
+    the first per-channel render after installing compiles its own variant.
 
     The rows are handed out in tasks of *rows_per_task* consecutive entries of *rows*, each
     with one workspace (allocating one per row cost the threads a contended allocator).  Rows

@@ -70,8 +70,9 @@ def _spread(rows):
     return rows[np.argsort(rev, kind="stable")]
 
 
-#: What :func:`tracer.integrator.render_rows` takes for "no spectral image".
-_NO_SPECTRUM = np.zeros((0, 0, 0))
+#: What :func:`tracer.integrator.render_rows` takes for "no spectral image" (its per-channel
+#: code is then pruned when numba compiles it).
+_NO_SPECTRUM = None
 
 
 def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
@@ -241,7 +242,9 @@ def render_spectral(scene: Scene, *, width=960, height=960, depth=DEFAULTS["dept
     image of :func:`render` (the scene's RGB colours enter through a spectral basis:
     :func:`tracer.pack.channel_setup`).  ``spectral=False`` is refused with a
     :class:`ValueError`.  Other parameters as in :func:`render`.  Memory: the cube is
-    height x width x spectral_samples float64 (16 bands at 960x960: 118 MB).
+    height x width x spectral_samples float64 (16 bands at 960x960: 118 MB).  The first spectral
+    image after installing compiles the integrator's per-band variant into numba's cache (about
+    as long as the first render's compilation).
 
     >>> import tracer
     >>> cube = tracer.render_spectral(tracer.default_scene(), width=8, height=6, progress=False)
