@@ -172,7 +172,7 @@ def test_no_numpy_warning_on_a_normal_exit(tmp_path):
 
 
 @pytest.mark.parametrize("out, words", [
-    ("/proc/x.png", ["/proc/x.png", "cannot write in folder /proc"]),
+    ("/proc/x.png", ["/proc/x.png", "cannot create a file in /proc"]),
     ("{tmp}/no/such/x.png", ["x.png", "does not exist"]),
     ("{tmp}", ["is a folder"]),
     ("{tmp}/x.jpg", ["must end in"]),

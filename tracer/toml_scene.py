@@ -39,6 +39,7 @@ from .assets import AssetError, load_environment_image, load_film_map, load_mesh
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
 from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, MAX_INDEX, MAX_MAGNITUDE
+from .output import MAX_EXPOSURE, VIEWS
 from .scene import (
     LIGHT_FALLOFFS,
     MAX_LIGHT_SAMPLES,
@@ -339,8 +340,9 @@ _FILM_KEYS = {
     "map": {"kind", "path"} | _SWIRL_KEYS,
 }
 _RENDER_INT = {k: LIMITS[k] for k in ("width", "height", "depth", "spp", "spectral_samples", "seed")}
-_RENDER_FLOAT = {"threshold": 0.0}
-_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band")}
+#: number keys: (lowest, highest or None)
+_RENDER_FLOAT = {"threshold": (0.0, None), "exposure": (-MAX_EXPOSURE, MAX_EXPOSURE)}
+_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band"), "view": VIEWS}
 
 
 def parse_toml_text(text: str, path="<string>") -> Scene:
@@ -511,7 +513,7 @@ def _render(c: _Ctx, t) -> dict:
                 raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {v!r}")
             out[key] = v
         else:
-            out[key] = c.number(kp + (key,), v, _RENDER_FLOAT[key])
+            out[key] = c.number(kp + (key,), v, *_RENDER_FLOAT[key])
     if out.get("threshold", 1.0) == 0.0 and out.get("depth", 1) > MAX_EXHAUSTIVE_DEPTH:
         raise c.bad(kp + ("depth",), f"must be at most {MAX_EXHAUSTIVE_DEPTH} when render.threshold is 0 (the "
                                      f"exhaustive tree has up to 2^depth - 1 rays a sample), got {out['depth']}")
