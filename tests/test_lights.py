@@ -534,12 +534,13 @@ def test_lights_round_trip_through_the_toml_writer(tmp_path):
 
 @pytest.mark.api
 @pytest.mark.parametrize("change, message", [
-    (dict(radius=-1.0), "light 0: radius must be a finite number >= 0"),
-    (dict(radius=float("nan")), "light 0: radius must be a finite number >= 0"),
-    (dict(samples=0), f"light 0: samples must be an integer in 1..{MAX_LIGHT_SAMPLES}"),
-    (dict(samples=2.5), f"light 0: samples must be an integer in 1..{MAX_LIGHT_SAMPLES}"),
-    (dict(falloff="linear"), "light 0: falloff must be one of 'none', 'inverse_square'"),
-    (dict(intensity=float("inf")), "light 0: intensity must be a finite number >= 0"),
+    (dict(radius=-1.0), "light 1: radius must be a finite number >= 0"),
+    # non-finite numbers: the scene-limits check (tracer.pack.check_magnitudes) comes first
+    (dict(radius=float("nan")), "light 1 radius: nan is not a finite number"),
+    (dict(samples=0), f"light 1: samples must be an integer in 1..{MAX_LIGHT_SAMPLES}"),
+    (dict(samples=2.5), f"light 1: samples must be an integer in 1..{MAX_LIGHT_SAMPLES}"),
+    (dict(falloff="linear"), "light 1: falloff must be one of 'none', 'inverse_square'"),
+    (dict(intensity=float("inf")), "light 1 intensity: inf is not a finite number"),
 ])
 def test_python_lights_the_renderer_cannot_use_are_refused(change, message):
     scene = floor_scene([PointLight((0.0, 2.0, 0.0), **({"intensity": 1.0} | change))])

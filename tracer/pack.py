@@ -217,7 +217,7 @@ def _light_records(lights, basis):
     recs = np.zeros(len(lights), lay.LIGHT)
     radiance = np.zeros((len(lights), nc))
     for i, lt in enumerate(lights):
-        what = f"light {i}"
+        what = f"light {i + 1}"  # 1-based, as the editor and the movie commands number lights
         if lt.falloff not in _FALLOFFS:
             raise ValueError(f"{what}: falloff must be one of {', '.join(map(repr, _FALLOFFS))} (got {lt.falloff!r})")
         position = np.asarray(lt.position, float)

@@ -235,7 +235,7 @@ class _Ctx:
                 hint = f"; did you mean '{close[0]}'?" if close else ""
                 raise self.error(
                     kp + (key,),
-                    f"unknown key '{key}' in {where}{hint} (allowed: {', '.join(sorted(allowed))})",
+                    f"unknown key '{_short(key, 40)}' in {where}{hint} (allowed: {', '.join(sorted(allowed))})",
                 )
         for key in required:
             if key not in table:
@@ -321,9 +321,9 @@ def _typename(v) -> str:
             list: "an array", dict: "a table"}.get(type(v), type(v).__name__)
 
 
-def _short(v) -> str:
-    s = repr(v)
-    return s if len(s) <= 60 else s[:57] + "..."
+def _short(v, limit=60) -> str:
+    s = v if isinstance(v, str) and limit != 60 else repr(v)
+    return s if len(s) <= limit else s[:limit - 3] + "..."
 
 
 _TOP = {"scene", "camera", "environment", "render", "materials", "spheres", "bubbles", "meshes", "lights"}
@@ -510,7 +510,7 @@ def _render(c: _Ctx, t) -> dict:
             out[key] = c.integer(kp + (key,), v, *_RENDER_INT[key])
         elif key in _RENDER_CHOICE:
             if v not in _RENDER_CHOICE[key]:
-                raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {v!r}")
+                raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {_short(v)}")
             out[key] = v
         else:
             out[key] = c.number(kp + (key,), v, *_RENDER_FLOAT[key])
