@@ -7,6 +7,8 @@ Units: scene lengths in scene units, film thickness in nm, colours linear sRGB i
 from .builtin import default_scene
 from .errors import SceneError
 from .io import load_scene
+from .movie import render_movie
+from .movie_commands import Frame, Timeline
 from .render import DEFAULTS, render, render_with_stats, save_image
 from .scene import Bubble, Camera, Environment, FilmProfile, Material, Mesh, PointLight, Scene, Sphere
 
@@ -15,6 +17,9 @@ __all__ = [
     "render",
     "render_with_stats",
     "save_image",
+    "render_movie",
+    "Timeline",
+    "Frame",
     "default_scene",
     "DEFAULTS",
     "SceneError",
