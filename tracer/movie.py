@@ -151,7 +151,7 @@ def local_cluster(workers: int):
     env = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
     return LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None,
                         scheduler_kwargs={"dashboard_address": ":0"},  # its HTTP server on a free port
-                        env=env, silence_logs=40)
+                        env=env, silence_logs=50)  # CRITICAL: no shutdown chatter on stderr
 
 
 def _render_distributed(client, todo, bits, keys, store, bar):
@@ -284,6 +284,12 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
         raise ValueError("give at most one of client, workers and scheduler")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    if workers is not None or scheduler is not None:
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise ValueError("rendering on a Dask cluster needs dask.distributed: pip install "
+                             "'bubbleoptics[dask]'") from None
     frames = timeline.frames(settings)
 
     cache = movie_cache_folder(out)
