@@ -533,7 +533,9 @@ class Timeline:
 
     def rotate(self, name, axis_x, axis_y, axis_z, degrees):
         """Turn object *name* by *degrees* (right-handed) about the axis through its centre.
-        A mesh's vertices turn; a bubble's film turns (its ``up``); a sphere looks the same."""
+        A mesh's vertices turn; a bubble's film turns (its ``up``: the draining profile; the
+        swirl's waves are fixed in world directions by the renderer and do not turn); a sphere
+        looks the same."""
         ref = self._ref(name)
         axis = np.asarray(_vector((axis_x, axis_y, axis_z), "the axis"))
         m = np.abs(axis).max()
