@@ -78,6 +78,9 @@ def main(argv=None):
 
     args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 3, 1, argv, size=480,
                                                     quick_size=96)
+    import os
+
+    load_before = os.getloadavg()[0]
     scene = tracer.default_scene()
     tracer.render(scene, width=8, height=8, progress=False)  # the kernels from numba's cache
     rows = []
@@ -152,7 +155,8 @@ def main(argv=None):
               "seconds_max", "frames_per_second", "encode_seconds_median", "encode_share", "frame_compute_seconds",
               "overhead_per_frame_seconds", "overhead_min", "overhead_max", "overhead_fraction",
               "cluster_startup_seconds", "first_frame_seconds", "efficiency"]
-    note = (f"{repeats} repeats, median (min-max); {n_frames} frames of data/movies/builtin_orbit.txt at "
+    load = f"machine load average {load_before:.1f} before, {os.getloadavg()[0]:.1f} after (shared machine)"
+    note = (f"{load}; {repeats} repeats, median (min-max); {n_frames} frames of data/movies/builtin_orbit.txt at "
             f"{size}x{size}, depth 10, 1 spp, .mp4; model rows: see benchmarks/movie.py's docstring")
     write_csv(args.out, rows, [provenance("benchmarks/movie.py", note,
                                           "regenerate with: python benchmarks/movie.py")], fieldnames=fields,
