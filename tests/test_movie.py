@@ -500,6 +500,63 @@ def test_workers_load_the_kernels_from_numbas_cache_with_one_thread(tmp_path, dr
 @pytest.mark.api
 def test_workers_option_runs_a_local_cluster(tmp_path, capsys, drift):
     out = tmp_path / "m"
-    status, _, err = run(["movie", THREE, out, drift, *TINY, "--workers", "2"], capsys)
-    assert status == 0, err
+    status, stdout, err = run(["movie", THREE, out, drift, *TINY, "--workers", "2"], capsys)
+    assert status == 0 and stdout == "" and err == "", err  # no cluster chatter on the terminal
     assert len(pngs(out)) == 4
+
+
+@pytest.mark.api
+def test_a_worker_lost_mid_movie_costs_only_its_frames(tmp_path, client):
+    """One worker's process is killed while the movie renders; Dask reruns its frames on the
+    other (the nanny restarts the dead one), and the movie is complete and equal to serial."""
+    import os
+    import threading
+
+    scene = tracer.default_scene()
+    tl = Timeline(scene).camera_orbit(90).render(16)
+    options = dict(width=96, height=96, depth=10, progress=False)  # tens of ms a frame
+    serial = render_movie(scene, tl, tmp_path / "serial", **options)
+    victim = sorted(client.scheduler_info()["workers"])[0]
+    cache = movie_cache_folder(tmp_path / "dist")
+    done_at_kill = []
+
+    def kill_after_the_first_frame():
+        for _ in range(6000):
+            if cache.is_dir() and any(cache.glob("[0-9a-f]*.png")):
+                break
+            threading.Event().wait(0.001)
+        done_at_kill.append(len(list(cache.glob("[0-9a-f]*.png"))))
+        try:
+            client.run(os._exit, 1, workers=[victim], on_error="ignore")
+        except Exception:  # the worker dies before it can answer
+            pass
+
+    killer = threading.Thread(target=kill_after_the_first_frame)
+    killer.start()
+    dist = render_movie(scene, tl, tmp_path / "dist", client=client, **options)
+    killer.join()
+    assert dist.frames == dist.rendered == 16
+    assert 1 <= done_at_kill[0] < 16  # killed mid-movie
+    for a, b in zip(sorted((tmp_path / "serial").iterdir()), sorted((tmp_path / "dist").iterdir())):
+        assert a.read_bytes() == b.read_bytes()
+    assert serial.rendered == 16
+    client.wait_for_workers(2, timeout=60)  # the nanny brought it back for the tests after this one
+    assert victim not in client.scheduler_info()["workers"]  # it did die
+
+
+@pytest.mark.api
+def test_python_m_tracer_movie_on_workers_is_silent(tmp_path, drift):
+    """A real ``python -m tracer`` process: the workers (spawned processes that import
+    ``tracer.__main__`` as their main module) must not run the command again, and nothing but
+    the movie comes out."""
+    import os
+    import subprocess
+    import sys
+
+    out = tmp_path / "m.gif"
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    proc = subprocess.run([sys.executable, "-m", "tracer", "movie", str(THREE), str(out), str(drift), *TINY,
+                           "--workers", "2"], capture_output=True, text=True, env=env, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "" and proc.stderr == ""
+    assert out.is_file() and len(list(movie_cache_folder(out).glob("*.png"))) == 4
