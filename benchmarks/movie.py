@@ -17,7 +17,11 @@ from an empty frame cache (a new temporary folder), so every frame is rendered.
 * ``encode``: the assembly of the .mp4 from the cached PNGs (reading them, ffmpeg's H.264),
   part of each run above, reported as its share of the wall time.
 
-From the measured one-thread compute time a frame and the overhead, the ``model`` rows
+``frame_cpu_seconds`` is the CPU time a frame (this process's for ``serial``, the workers' for
+``dask``, from :func:`time.process_time`): on this shared machine the wall times are inflated
+by the other processes, the CPU time is what a core of its own would take.
+
+From the measured one-thread CPU time a frame and the overhead, the ``model`` rows
 estimate a 3840x2160, 64-spp, one-minute movie (1440 frames at 24 fps) on 8, 64 and 512
 one-core workers. The model assumes: the cost of a frame scales with its pixels times its
 samples (camera rays dominate; the scene and the depth are the same), workers are as fast as
@@ -86,14 +90,19 @@ def main(argv=None):
     rows = []
     n_frames = 48
 
-    serial = [run_movie(scene, size) for _ in range(repeats)]
+    serial, serial_cpu = [], []
+    for _ in range(repeats):
+        c0 = time.process_time()
+        serial.append(run_movie(scene, size))
+        serial_cpu.append((time.process_time() - c0) / n_frames)
     walls = [w for w, _ in serial]
     enc = [r.encode_seconds for _, r in serial]
     med, lo, hi = spread(walls)
     rows.append(dict(case="serial", workers=1, threads=numba.get_num_threads(), frames=n_frames, width=size,
                      height=size, seconds_median=med, seconds_min=lo, seconds_max=hi,
                      frames_per_second=n_frames / med, encode_seconds_median=statistics.median(enc),
-                     encode_share=statistics.median(e / w for e, w in zip(enc, walls))))
+                     encode_share=statistics.median(e / w for e, w in zip(enc, walls)),
+                     frame_cpu_seconds=statistics.median(serial_cpu)))
     print(f"serial: {med:.2f} s ({lo:.2f}-{hi:.2f}) for {n_frames} frames at {size}x{size}", file=sys.stderr)
 
     t0 = time.perf_counter()
@@ -106,10 +115,13 @@ def main(argv=None):
             tl = tracer.Timeline(scene).render(1).camera_orbit(1).render(1)
             tracer.render_movie(scene, tl, Path(tmp) / "warm", width=8, height=8, client=client, progress=False)
         warm = time.perf_counter() - t0
-        dist, overhead, compute, enc, walls = [], [], [], [], []
+        dist, overhead, compute, enc, walls, cpu = [], [], [], [], [], []
         for _ in range(repeats):
             stream = []
+            c0 = client.run(time.process_time)
             wall, result = run_movie(scene, size, client, stream)
+            c1 = client.run(time.process_time)
+            cpu.append(sum(c1[w] - c0[w] for w in c1) / n_frames)
             d = [sum(s["stop"] - s["start"] for s in task["startstops"] if s["action"] == "compute")
                  for task in stream if str(task["key"]).startswith("tracer-frame-")]
             assert len(d) == n_frames, len(d)
@@ -125,7 +137,8 @@ def main(argv=None):
                          seconds_median=med, seconds_min=lo, seconds_max=hi, frames_per_second=n_frames / med,
                          encode_seconds_median=statistics.median(enc),
                          encode_share=statistics.median(e / w for e, w in zip(enc, walls)),
-                         frame_compute_seconds=c_med, overhead_per_frame_seconds=o_med,
+                         frame_compute_seconds=c_med, frame_cpu_seconds=statistics.median(cpu),
+                         overhead_per_frame_seconds=o_med,
                          overhead_min=o_lo, overhead_max=o_hi, overhead_fraction=o_med / c_med,
                          cluster_startup_seconds=startup, first_frame_seconds=warm))
         print(f"dask x{WORKERS}: {med:.2f} s ({lo:.2f}-{hi:.2f}); a frame {c_med:.3f} s on a worker, overhead "
@@ -137,7 +150,7 @@ def main(argv=None):
 
     # the model: a 4K, 64-spp, one-minute movie
     scale = MODEL["width"] * MODEL["height"] * MODEL["spp"] / (size * size)
-    frame = c_med * scale
+    frame = statistics.median(cpu) * scale  # CPU time: what a core of its own would take
     encode_per_frame = statistics.median(enc) / n_frames * MODEL["width"] * MODEL["height"] / (size * size)
     for w in (8, 64, 512):
         rounds = math.ceil(MODEL["frames"] / w)
@@ -153,7 +166,7 @@ def main(argv=None):
 
     fields = ["case", "workers", "threads", "frames", "width", "height", "seconds_median", "seconds_min",
               "seconds_max", "frames_per_second", "encode_seconds_median", "encode_share", "frame_compute_seconds",
-              "overhead_per_frame_seconds", "overhead_min", "overhead_max", "overhead_fraction",
+              "frame_cpu_seconds", "overhead_per_frame_seconds", "overhead_min", "overhead_max", "overhead_fraction",
               "cluster_startup_seconds", "first_frame_seconds", "efficiency"]
     load = f"machine load average {load_before:.1f} before, {os.getloadavg()[0]:.1f} after (shared machine)"
     note = (f"{load}; {repeats} repeats, median (min-max); {n_frames} frames of data/movies/builtin_orbit.txt at "

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import functools
 import hashlib
 import math
 import os
@@ -169,13 +170,21 @@ def _feed(h, obj):
         raise TypeError(f"cannot hash a {type(obj).__name__} in a frame description")
 
 
+@functools.lru_cache(maxsize=1)
+def _package_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("bubbleoptics")
+    except PackageNotFoundError:  # a source tree that is not installed
+        return "unknown"
+
+
 def frame_key(frame: Frame, bits=8) -> str:
     """The hex SHA-256 of *frame*'s description (see :meth:`Frame.key`), with the package's
     version, so that another version of the tracer does not reuse this one's images."""
-    from .cli import _version
-
     h = hashlib.sha256()
-    _feed(h, ("bubbleoptics movie frame", KEY_VERSION, _version(), int(bits)))
+    _feed(h, ("bubbleoptics movie frame", KEY_VERSION, _package_version(), int(bits)))
     _feed(h, frame.scene)
     _feed(h, frame.settings)
     _feed(h, float(frame.time))
