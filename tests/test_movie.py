@@ -409,6 +409,7 @@ def _bad_movie_cases(tmp):
     yield "odd size mp4", ["movie", THREE, tmp / "out" / "m.mp4", good, "--width", "7", "--height", "6"], "even width"
     yield "16 bits in a gif", ["movie", THREE, tmp / "out" / "m.gif", good, *TINY, "--bits", "16"], "16-bit frames"
     yield "missing folder", ["movie", THREE, tmp / "out" / "no" / "m.mp4", good, *TINY], "does not exist"
+    yield "image suffix", ["movie", THREE, tmp / "out" / "m.png", good, *TINY], "a movie is written as .mp4, .gif"
     yield "output is a file", ["movie", THREE, tmp / "out" / "file", good, *TINY], "is a file"
     yield "bad depth", ["movie", THREE, tmp / "out" / "m.mp4", good, "--depth", "0"], "--depth: must be"
     yield "bad fps", ["movie", THREE, tmp / "out" / "m.mp4", good, "--fps", "0"], "--fps: must be"

@@ -45,6 +45,9 @@ __all__ = ["render_movie", "render_frame_png", "check_movie_output", "movie_cach
 DEFAULT_FPS = 24
 #: A folder movie's frame files (and what an existing OUT folder may hold to be replaced).
 _FRAME_FILE = re.compile(r"\d{4,}\.png")
+#: Suffixes that mean a file, not a folder of frames: refused rather than made into a folder.
+_NOT_A_MOVIE = {".png", ".npy", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".avi", ".mov", ".mkv", ".webm", ".txt",
+                ".toml"}
 
 
 @dataclass
@@ -85,6 +88,9 @@ def check_movie_output(out) -> tuple[Path, str]:
     folder = out.parent
     if not out.name or out.name in (".", ".."):
         raise ValueError(f"{out}: give the movie a name (OUT.mp4, OUT.gif or a folder name)")
+    if kind == "folder" and out.suffix.lower() in _NOT_A_MOVIE:
+        raise ValueError(f"{out}: a movie is written as .mp4, .gif or a folder of PNG frames (a name without "
+                         f"{out.suffix})")
     if not folder.is_dir():
         raise ValueError(f"{out}: folder {folder} does not exist")
     if kind != "folder" and out.is_dir():
