@@ -8,6 +8,8 @@ above 1: see its docstring); ``save_image`` writes it (:mod:`tracer.output`).
 from .builtin import default_scene
 from .errors import SceneError
 from .io import load_scene
+from .movie import render_movie
+from .movie_commands import Frame, Timeline
 from .output import SpectralImage, check_output_path, load_spectral, save_spectral
 from .render import DEFAULTS, render, render_spectral, render_with_stats, save_image
 from .scene import Bubble, Camera, Environment, FilmProfile, Material, Mesh, PointLight, Scene, Sphere
@@ -22,6 +24,9 @@ __all__ = [
     "load_spectral",
     "check_output_path",
     "SpectralImage",
+    "render_movie",
+    "Timeline",
+    "Frame",
     "default_scene",
     "DEFAULTS",
     "SceneError",
