@@ -46,6 +46,8 @@ OPTIONS = {
     "--bits": ["8", "16", "12"],
     "--width": ["1", "7", "0", "65536", "1e9", "３"],
     "--height": ["1", "5", "0", "-5", "1e9"],
+    "--exposure": ["0", "2", "-3.5", "64", "65", "nan", "x"],
+    "--view": ["clip", "aces", "agx"],
 }
 
 _NUMBER_TOKEN = re.compile(r"(?<![\w.])[+-]?(?:\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+)(?![\w.])", re.ASCII)
@@ -109,7 +111,8 @@ def make_cases(n: int, seed: int = 0) -> list[Case]:
             name += " " + " ".join(options[5:])
         if rng.random() < 0.05:
             text, suffix = None, ""
-        cases.append(Case(name, text, suffix, options, rng.choice([".png", ".png", ".npy"])))
+        cases.append(Case(name, text, suffix, options, rng.choice([".png", ".png", ".png", ".npy", ".exr", ".hdr",
+                                                                   ".npz"])))
     return cases
 
 
@@ -153,6 +156,8 @@ def check_case(case: Case, folder: Path) -> str | None:
             return "exit 0 but no image"
         if case.out_suffix == ".npy" and not np.all(np.isfinite(np.load(out))):
             return "exit 0 with a non-finite image"
+        if case.out_suffix == ".npz" and not np.all(np.isfinite(np.load(out)["radiance"])):
+            return "exit 0 with a non-finite spectral image"
         if left != [out.name]:
             return f"exit 0 but left {left}"
         return None

@@ -216,7 +216,7 @@ def test_unknown_output_suffix(tmp_path, capsys):
     status, out, err = run(["image", LISTING_3_2, tmp_path / "o.jpg", *TINY], capsys)
     assert (status, out) == (2, "")
     assert_one_line(err)
-    assert ".png or .npy" in err and "o.jpg" in err
+    assert ".png, .npy, .exr, .hdr or .npz" in err and "o.jpg" in err
     assert list(tmp_path.iterdir()) == []
 
 

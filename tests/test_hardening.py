@@ -172,7 +172,7 @@ def test_no_numpy_warning_on_a_normal_exit(tmp_path):
 
 
 @pytest.mark.parametrize("out, words", [
-    ("/proc/x.png", ["/proc/x.png", "cannot write in folder /proc"]),
+    ("/proc/x.png", ["/proc/x.png", "cannot create a file in /proc"]),
     ("{tmp}/no/such/x.png", ["x.png", "does not exist"]),
     ("{tmp}", ["is a folder"]),
     ("{tmp}/x.jpg", ["must end in"]),
@@ -255,3 +255,12 @@ def test_fuzz_contract(tmp_path):
         if problem:
             failures.append(f"{case.name}: {problem}")
     assert not failures, "\n".join(failures[:20])
+
+
+@pytest.mark.parametrize("option", [["--exposure", "1"], ["--view", "aces"], ["--spectral-out", "s.npz"]])
+def test_movie_refuses_the_display_options_it_does_not_apply(tmp_path, capsys, option):
+    out = tmp_path / "m.gif"
+    status, err = _run(["movie", str(out), str(ROOT / "data" / "movies" / "builtin_orbit.txt"), "--quiet"] + option,
+                       capsys)
+    assert status == 2 and len(err) == 1 and option[0] in err[0] and "not supported for movies" in err[0]
+    assert list(tmp_path.iterdir()) == []

@@ -1,20 +1,32 @@
 """tracer: a numba spectral Whitted ray tracer for soap-bubble scenes, built on bubbleoptics.
 
 Units: scene lengths in scene units, film thickness in nm, colours linear sRGB in [0, 1].
-``render`` returns linear sRGB radiance as an (H, W, 3) float array.
+``render`` returns linear sRGB radiance as an (H, W, 3) float array (values may be negative and
+above 1: see its docstring); ``save_image`` writes it (:mod:`tracer.output`).
 """
 
 from .builtin import default_scene
 from .errors import SceneError
 from .io import load_scene
-from .render import DEFAULTS, render, render_with_stats, save_image
+from .movie import render_movie
+from .movie_commands import Frame, Timeline
+from .output import SpectralImage, check_output_path, load_spectral, save_spectral
+from .render import DEFAULTS, render, render_spectral, render_with_stats, save_image
 from .scene import Bubble, Camera, Environment, FilmProfile, Material, Mesh, PointLight, Scene, Sphere
 
 __all__ = [
     "load_scene",
     "render",
     "render_with_stats",
+    "render_spectral",
     "save_image",
+    "save_spectral",
+    "load_spectral",
+    "check_output_path",
+    "SpectralImage",
+    "render_movie",
+    "Timeline",
+    "Frame",
     "default_scene",
     "DEFAULTS",
     "SceneError",

@@ -58,6 +58,21 @@ def _setting_type(key):
     return parse
 
 
+def _exposure(text):
+    """An argparse type: a number of stops within tracer.output.MAX_EXPOSURE (not imported here:
+    the parser is built before anything heavy)."""
+    try:
+        value = float(text) if text.isascii() else None
+    except ValueError:
+        value = None
+    if value is None or not -_MAX_EXPOSURE <= value <= _MAX_EXPOSURE:
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        raise argparse.ArgumentTypeError(f"expected a number of stops in [{-_MAX_EXPOSURE:g}, {_MAX_EXPOSURE:g}], "
+                                         f"got {shown!r}")
+    return value
+
+
+_MAX_EXPOSURE = 64.0
 #: Options whose default comes from a TOML scene's [render] table when it has one, else DEFAULTS.
 _SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method", "depth")
 #: What the command line calls each render setting, in error messages.
@@ -85,7 +100,15 @@ def _add_render_options(p):
     p.add_argument("--seed", type=_setting_type("seed"), help="random seed for sample positions (0 to 2^63-1)")
     p.add_argument("--background", type=_rgb, default=None, metavar="R,G,B",
                    help="replace the environment by this constant linear-RGB colour")
-    p.add_argument("--bits", type=int, choices=(8, 16), default=8, help="PNG bit depth")
+    p.add_argument("--bits", type=int, choices=(8, 16, 32), default=None,
+                   help="bits per channel: .png 8 (default) or 16; .exr 32 (float, default) or 16 (half)")
+    p.add_argument("--exposure", type=_exposure, metavar="STOPS",
+                   help="display exposure of a .png: the image times 2**STOPS (default 0)")
+    p.add_argument("--view", choices=("clip", "aces"),
+                   help="display view of a .png: clip each channel to [0, 1] (clip, the default) or "
+                        "the ACES 2.0 filmic view (aces; needs opencolorio)")
+    p.add_argument("--spectral-out", metavar="FILE.npz",
+                   help="also save the per-band spectral image with its wavelengths (forces spectral transport)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -108,7 +131,8 @@ def build_parser():
                      epilog=epilog)
     parser.add_argument("--version", action="version", version=f"%(prog)s (bubbleoptics) {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    img = sub.add_parser("image", help="render a scene to an image (.png, or .npy linear float)",
+    img = sub.add_parser("image", help="render a scene to an image (.png; linear float .npy, .exr, .hdr; "
+                                       "the spectral image .npz)",
                          description="Render SCENE (or the built-in bubble scene) to OUT.", epilog=epilog)
     img.add_argument("paths", nargs="+", metavar="[SCENE] OUT",
                      help="scene file (TOML or the coursework's text format; the built-in scene when left out) "
@@ -126,6 +150,7 @@ def build_parser():
                           f"{LIMITS['depth'][1]})")
     res.add_argument("--json", action="store_true", help="print one JSON object")
     _add_render_options(res)
+    _add_movie_commands(sub, epilog)
     return parser
 
 
@@ -134,24 +159,35 @@ def _fail(message):
     return EXIT_BAD_INPUT
 
 
-def _check_output(out):
-    """*out* as a Path if an image can be written there (checked before rendering), else ValueError."""
-    import tempfile
+def _check_output(out, bits=None, exposure=None, view=None, suffixes=None):
+    """*out* as a Path, if its suffix is one of *suffixes* (default: every output,
+    :data:`tracer.output.OUTPUT_SUFFIXES`), and the options given on the command line (None:
+    not given) suit it, and it can be written (:func:`tracer.output.check_output_path`: the
+    writer installed, the folder exists and is writable, not a folder); else ValueError (one
+    line).  Called before the scene is read and rendered."""
+    from .output import DISPLAY_DEFAULTS, OUTPUT_SUFFIXES, check_output_path
 
     out = Path(out)
-    if out.suffix.lower() not in (".png", ".npy"):
-        raise ValueError(f"{out}: output must end in .png or .npy")
-    folder = out.parent
-    if not folder.is_dir():
-        raise ValueError(f"{out}: folder {folder} does not exist")
-    if out.is_dir():
-        raise ValueError(f"{out}: is a folder, not a file name")
-    try:
-        with tempfile.NamedTemporaryFile(dir=folder, prefix=f".{out.name}.", suffix=".probe"):
-            pass
-    except OSError as err:
-        raise ValueError(f"{out}: cannot write in folder {folder} ({err.strerror or err})") from None
+    suffixes = tuple(suffixes or OUTPUT_SUFFIXES)
+    if out.suffix.lower() not in suffixes:
+        raise ValueError(f"{out}: output must end in {', '.join(suffixes[:-1])} or {suffixes[-1]}"
+                         if len(suffixes) > 1 else f"{out}: output must end in {suffixes[0]}")
+    check_output_path(out, bits=bits, exposure=DISPLAY_DEFAULTS["exposure"] if exposure is None else exposure,
+                      view=DISPLAY_DEFAULTS["view"] if view is None else view)
     return out
+
+
+def _display_settings(args, table, out):
+    """``exposure`` and ``view`` for :func:`tracer.save_image` of *out*: for a display image
+    (.png) the option, else the scene's [render] *table*, else the defaults; for a float output
+    only those given on the command line (which :func:`_check_output` has refused), so that a
+    scene's display defaults do not stop it from being saved as .npy, .exr or .hdr."""
+    from .output import DISPLAY_DEFAULTS, is_display_output
+
+    given = {k: getattr(args, k) for k in DISPLAY_DEFAULTS if getattr(args, k) is not None}
+    if is_display_output(out):
+        return {k: given.get(k, table.get(k, v)) for k, v in DISPLAY_DEFAULTS.items()}
+    return given
 
 
 def _load_scene(path):
@@ -171,16 +207,16 @@ def _load_scene(path):
     return scene
 
 
-def _resolve_settings(args, scene):
+def _resolve_settings(args, scene, spectral_image=False):
     """An option given on the command line, else the scene's [render] table (TOML), else
-    DEFAULTS; checked against tracer.limits (errors name the option)."""
+    DEFAULTS; checked against tracer.limits (errors name the option) and for memory."""
     from .render import resolve_settings
 
     given = {key: getattr(args, key, None) for key in _SCENE_DEFAULTED}
     names = dict(_OPTION_NAMES)
     if args.command == "research":
         names["depth"] = "DEPTH"
-    return resolve_settings(scene, names=names, **given)
+    return resolve_settings(scene, names=names, spectral_image=spectral_image, **given)
 
 
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, the shells' convention
@@ -204,7 +240,10 @@ def main(argv=None):
 
 def _main(argv=None):
     args = build_parser().parse_args(argv)
+    if args.command in ("movie", "film"):
+        return _movie(args)
     from .errors import SceneError
+    from .output import save_spectral
     from .render import render_with_stats, save_image
 
     try:
@@ -214,7 +253,9 @@ def _main(argv=None):
             scene_path, out = (None, args.paths[0]) if len(args.paths) == 1 else args.paths
         else:
             scene_path, out = args.scene, args.out
-        out = _check_output(out)
+        out = _check_output(out, bits=args.bits, exposure=args.exposure, view=args.view)
+        spectral_out = _check_output(args.spectral_out, suffixes=(".npz",)) if args.spectral_out else None
+        spectral_image = spectral_out is not None or out.suffix.lower() == ".npz"
         if scene_path is None:
             from .builtin import default_scene
 
@@ -225,9 +266,15 @@ def _main(argv=None):
             from .scene import Environment
 
             scene.environment = Environment(kind="constant", color=args.background)
-        s = _resolve_settings(args, scene)  # every limit and the memory estimate, before any work
-        image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None)
-        save_image(image, out, bits=args.bits)
+        s = _resolve_settings(args, scene, spectral_image)  # every limit and the memory estimate, first
+        image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None,
+                                         spectral_image=spectral_image)
+        if out.suffix.lower() == ".npz":
+            save_spectral(stats.spectral_image, out)
+        else:
+            save_image(image, out, bits=args.bits, **_display_settings(args, scene.render_defaults, out))
+        if spectral_out is not None:
+            save_spectral(stats.spectral_image, spectral_out)
     except SceneError as err:
         return _fail(str(err))
     except (ValueError, OSError) as err:
@@ -242,6 +289,86 @@ def _main(argv=None):
             print(f"{scene_path}: depth {s['depth']}, {s['width']}x{s['height']}, {s['spp']} spp: "
                   f"{stats.render_seconds:.3f} s (compilation excluded)")
             print("rays: " + ", ".join(f"{k} {v:,}" for k, v in stats.rays.items()))
+    return 0
+
+
+def _add_movie_commands(sub, epilog):
+    """``tracer movie`` and ``tracer film`` (the coursework's name for it, same arguments)."""
+    from .limits import LIMITS
+
+    for name in ("movie", "film"):
+        help_ = ("render a movie: the scene changed between frames by a commands file (.mp4, .gif or a "
+                 "folder of PNG frames)") if name == "movie" else "the same as 'movie' (the coursework's -film mode)"
+        p = sub.add_parser(name, help=help_, epilog=epilog,
+                           description="Render the movie of COMMANDS (docs/movies.md) applied to SCENE (or the "
+                                       "built-in bubble scene) into OUT: OUT.mp4 (H.264), OUT.gif, or a folder "
+                                       "of frames 0000.png, ... Frames are cached in OUT.cache: a rerun renders "
+                                       "only the missing ones.")
+        p.add_argument("paths", nargs="+", metavar="[SCENE] OUT COMMANDS",
+                       help="scene file (TOML or the coursework's text format; the built-in scene when left out), "
+                            "the movie (.mp4, .gif, or a folder name) and the commands file")
+        p.add_argument("--depth", type=_setting_type("depth"),
+                       help=f"maximum ray generation, 1 = camera rays only ({LIMITS['depth'][0]}-{LIMITS['depth'][1]})")
+        _add_render_options(p)
+        p.add_argument("--fps", type=_fps, default=None, help="frames per second of an .mp4 or .gif (1-1000; 24)")
+        where = p.add_mutually_exclusive_group()
+        where.add_argument("--workers", type=_workers, metavar="N",
+                           help="render the frames on a local Dask cluster of N processes, one thread each")
+        where.add_argument("--scheduler", metavar="ADDRESS",
+                           help="render the frames on a running Dask cluster (e.g. tcp://host:8786)")
+
+
+def _fps(text):
+    try:
+        value = float(text) if text.isascii() else None
+    except ValueError:
+        value = None
+    if value is None or not 1 <= value <= 1000:
+        raise argparse.ArgumentTypeError(f"must be a number from 1 to 1000, got {text[:40]!r}")
+    return int(value) if value == int(value) else value
+
+
+def _workers(text):
+    if not (text.isascii() and text.isdigit()) or not 1 <= int(text) <= 1024:
+        raise argparse.ArgumentTypeError(f"must be an integer from 1 to 1024, got {text[:40]!r}")
+    return int(text)
+
+
+def _movie(args):
+    """``tracer movie|film [SCENE] OUT COMMANDS``: everything checked before any work; exit 2
+    with one line on a bad input, nothing written."""
+    from .errors import SceneError
+    from .movie import DEFAULT_FPS, check_movie_output, render_movie
+    from .movie_commands import Timeline
+
+    try:
+        if len(args.paths) not in (2, 3):
+            return _fail(f"tracer {args.command}: error: expected [SCENE] OUT COMMANDS")
+        scene_path, out, commands = (None, *args.paths) if len(args.paths) == 2 else args.paths
+        unsupported = [o for o, v in (("--exposure", args.exposure), ("--view", args.view),
+                                      ("--spectral-out", args.spectral_out)) if v is not None]
+        if unsupported:  # frames are saved as clipped 8-bit (or 16-bit) sRGB PNGs, exposure 0
+            return _fail(f"tracer {args.command}: error: {', '.join(unsupported)} not supported for movies yet")
+        check_movie_output(out)
+        if scene_path is None:
+            from .builtin import default_scene
+
+            scene = default_scene()
+        else:
+            scene = _load_scene(scene_path)
+        if args.background is not None:
+            from .scene import Environment
+
+            scene.environment = Environment(kind="constant", color=args.background)
+        timeline = Timeline.from_file(scene, commands)
+        s = _resolve_settings(args, scene)
+        render_movie(scene, timeline, out, fps=DEFAULT_FPS if args.fps is None else args.fps, bits=8 if args.bits is None else args.bits,
+                     progress=False if args.quiet else None, workers=args.workers, scheduler=args.scheduler,
+                     names={**_OPTION_NAMES, "fps": "--fps"}, **s)
+    except SceneError as err:
+        return _fail(str(err))
+    except (ValueError, OSError) as err:
+        return _fail(f"tracer: error: {err}")
     return 0
 
 

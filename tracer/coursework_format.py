@@ -248,14 +248,14 @@ def parse_coursework_text(lines, path="<string>") -> Scene:
         if tag not in _KINDS:
             raise r.error(
                 tag_line,
-                f"unknown block tag '{tag}': a block starts with s (sphere), b (bubble),"
+                f"unknown block tag '{_short(tag)}': a block starts with s (sphere), b (bubble),"
                 " t (triangulated object) or l (light)",
             )
         kind = _KINDS[tag]
         blk.pos = 1
         if kind == "light":
             if name:
-                raise r.error(tag_line, f"a light's tag line is just '{tag}', found '{tag_text.strip()}'")
+                raise r.error(tag_line, f"a light's tag line is just '{tag}', found '{_short(tag_text.strip(), 60)}'")
             blk.label = f"light {len(scene.lights) + 1}"
             _, position = blk.vector("position")
             line, intensity = blk.scalar("intensity")
@@ -265,7 +265,7 @@ def parse_coursework_text(lines, path="<string>") -> Scene:
         else:
             if not name:
                 raise r.error(tag_line, f"a {kind} needs a name: '{tag} NAME'")
-            blk.label = f"{kind} '{name}'"
+            blk.label = f"{kind} '{_short(name)}'"
             if kind == "sphere":
                 scene.spheres.append(_sphere(blk, name))
             elif kind == "bubble":

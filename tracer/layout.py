@@ -33,6 +33,8 @@ __all__ = [
     "PROFILE_UNIFORM",
     "PROFILE_DRAINING",
     "PROFILE_MAP",
+    "FALLOFF_NONE",
+    "FALLOFF_INVERSE_SQUARE",
     "ENV_CONSTANT",
     "ENV_SKY",
     "ENV_IMAGE",
@@ -56,6 +58,10 @@ SURFACE_PHONG = 1
 PROFILE_UNIFORM = 0
 PROFILE_DRAINING = 1
 PROFILE_MAP = 2
+
+# Light falloffs (tracer.scene.PointLight).
+FALLOFF_NONE = 0
+FALLOFF_INVERSE_SQUARE = 1
 
 # Environments (tracer.environment).
 ENV_CONSTANT = 0
@@ -106,8 +112,12 @@ FILM = np.dtype([
     ("lossless", np.bool_),  # every channel's index real: R + T = 1
 ], align=True)
 
-#: A point light; its radiance per channel is ``PackedScene.light_radiance``.
-LIGHT = np.dtype([("position", *_V3)], align=True)
+#: A light (:class:`tracer.scene.PointLight`): its centre, radius (0: a point), falloff
+#: (:data:`FALLOFF_NONE` or :data:`FALLOFF_INVERSE_SQUARE`) and number of samples (spheres);
+#: its strength per channel is ``PackedScene.light_radiance`` (``intensity`` times the colour,
+#: divided by π for inverse-square falloff, whose strength is then divided by r²).
+LIGHT = np.dtype([("position", *_V3), ("radius", np.float64), ("falloff", np.int64), ("samples", np.int64)],
+                 align=True)
 
 #: What rays leaving the scene see (one record): constant colour, procedural sky or an image.
 ENVIRONMENT = np.dtype([
@@ -151,7 +161,7 @@ class PackedScene(NamedTuple):
     film_maps: np.ndarray  # (K,) float64: every map film's (N_theta, N_phi) table, flattened
     # -- lights, environment, camera
     lights: np.ndarray  # (L,) LIGHT
-    light_radiance: np.ndarray  # (L, C)
+    light_radiance: np.ndarray  # (L, C) strength per channel (see LIGHT)
     ambient: np.ndarray  # (C,) the coursework's ambient light
     environment: np.ndarray  # (1,) ENVIRONMENT
     env_image: np.ndarray  # (H, W, 3) float64 linear sRGB (1x1 when unused)

@@ -23,7 +23,7 @@ from .layout import PackedScene
 from .limits import MAX_MAGNITUDE
 from .meshes import (computed_vertex_normals, corner_normals, face_normals, orient_faces, triangle_records,
                      weld_vertices)
-from .scene import Scene, unit_vector
+from .scene import MAX_LIGHT_SAMPLES, Scene, unit_vector
 
 __all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
            "AUTO_FRINGE_BANDS", "SPECTRAL_METHODS"]
@@ -242,6 +242,42 @@ def _environment_record(env):
     return rec, image
 
 
+_FALLOFFS = {"none": lay.FALLOFF_NONE, "inverse_square": lay.FALLOFF_INVERSE_SQUARE}
+
+
+def _light_records(lights, basis):
+    """(LIGHT records, strengths (L, C)) of :class:`~tracer.scene.PointLight` s; a light the
+    renderer cannot use is a ValueError naming it."""
+    nc = basis.shape[0]
+    recs = np.zeros(len(lights), lay.LIGHT)
+    radiance = np.zeros((len(lights), nc))
+    for i, lt in enumerate(lights):
+        what = f"light {i + 1}"  # 1-based, as the editor and the movie commands number lights
+        if lt.falloff not in _FALLOFFS:
+            raise ValueError(f"{what}: falloff must be one of {', '.join(map(repr, _FALLOFFS))} (got {lt.falloff!r})")
+        position = np.asarray(lt.position, float)
+        if position.shape != (3,) or not np.all(np.isfinite(position)):
+            raise ValueError(f"{what}: position must be three finite numbers (got {lt.position!r})")
+        radius = lt.radius
+        if isinstance(radius, bool) or not (isinstance(radius, (int, float, np.integer, np.floating))
+                                            and math.isfinite(radius) and radius >= 0):
+            raise ValueError(f"{what}: radius must be a finite number >= 0 (got {radius!r})")
+        samples = lt.samples
+        if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or \
+                not 1 <= samples <= MAX_LIGHT_SAMPLES:
+            raise ValueError(f"{what}: samples must be an integer in 1..{MAX_LIGHT_SAMPLES} (got {samples!r})")
+        if not (math.isfinite(lt.intensity) and lt.intensity >= 0):
+            raise ValueError(f"{what}: intensity must be a finite number >= 0 (got {lt.intensity!r})")
+        recs[i]["position"] = position
+        recs[i]["radius"] = float(radius)
+        recs[i]["falloff"] = _FALLOFFS[lt.falloff]
+        recs[i]["samples"] = int(samples)
+        # inverse-square: S = I / (pi r^2), the 1/pi here and the 1/r^2 per shaded point
+        scale = lt.intensity / math.pi if lt.falloff == "inverse_square" else lt.intensity
+        radiance[i] = scale * (basis @ np.asarray(lt.color, float))
+    return recs, radiance
+
+
 def _camera_record(camera):
     rec = np.zeros(1, lay.CAMERA)
     origin, fwd, right, cup = camera.basis()
@@ -284,6 +320,7 @@ def check_magnitudes(scene: Scene):
         check(f"mesh {m.name!r} vertices", m.vertices)
     for i, lt in enumerate(scene.lights, start=1):
         check(f"light {i} position", lt.position)
+        check(f"light {i} radius", lt.radius)
         check(f"light {i} intensity", [lt.intensity, *lt.color])
     env = scene.environment
     check("environment colour", [*env.color, env.intensity])
@@ -357,11 +394,7 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
         map_size = _film_record(films[i:i + 1], b.film, b.shininess, lossless, maps, map_size)
     film_maps = np.concatenate(maps) if maps else np.zeros(1)
 
-    lights = np.zeros(len(scene.lights), lay.LIGHT)
-    for i, lt in enumerate(scene.lights):
-        lights[i]["position"] = lt.position
-    light_radiance = np.array([lt.intensity * (basis @ np.asarray(lt.color, float))
-                               for lt in scene.lights]).reshape(-1, nc)
+    lights, light_radiance = _light_records(scene.lights, basis)
 
     environment, env_image = _environment_record(scene.environment)
 

@@ -1,4 +1,5 @@
-"""The Python driver: render a scene to a linear-RGB array, save images atomically."""
+"""The Python driver: render a scene to a linear-RGB array (and, if asked, its per-band
+spectral image).  Saving is :mod:`tracer.output` (``save_image`` is re-exported here)."""
 
 from __future__ import annotations
 
@@ -6,19 +7,18 @@ import sys
 import threading
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.atomic import write_atomically
-
 from .integrator import N_COUNTS, render_rows
 from .layout import RAY_COUNT_KINDS, PackedScene
-from .limits import check_memory, check_settings
+from .limits import BYTES_PER_PIXEL, check_memory, check_settings
+from .output import SpectralImage, save_image
 from .pack import pack_scene
 from .scene import Scene
 
-__all__ = ["render", "render_with_stats", "resolve_settings", "RenderStats", "save_image", "DEFAULTS"]
+__all__ = ["render", "render_with_stats", "render_spectral", "resolve_settings", "RenderStats", "save_image",
+           "DEFAULTS"]
 
 #: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
@@ -40,6 +40,7 @@ class RenderStats:
     spectral: bool = False
     channels: int = 3
     spectral_method: str = ""  # "point" or "band" in spectral mode (what "auto" chose), "" in RGB
+    spectral_image: SpectralImage | None = None  # render_with_stats(..., spectral_image=True)
 
 
 #: Rows per task of the parallel loop (one workspace each): small enough to balance an image
@@ -49,9 +50,6 @@ ROWS_PER_TASK = 8
 #: A render predicted to take longer than this (s) shows a progress bar and is split into
 #: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
 PROGRESS_AFTER = 0.5
-#: zlib level of 8-bit PNGs: 3 writes a render in about half the time of Pillow's default 6,
-#: for a file about a fifth larger (docs/performance.md).
-PNG_COMPRESS_LEVEL = 3
 CALL_SECONDS = 0.25
 _RENDER_LOCK = threading.Lock()
 
@@ -70,8 +68,15 @@ def _spread(rows):
     return rows[np.argsort(rev, kind="stable")]
 
 
-def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts):
-    """Render the rows *rows* into ``image[rows]`` and ``counts[rows]``.
+#: What :func:`tracer.integrator.render_rows` takes for "no spectral image" (its per-channel
+#: code is then pruned when numba compiles it).
+_NO_SPECTRUM = None
+
+
+def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
+               spectrum=_NO_SPECTRUM):
+    """Render the rows *rows* into ``image[rows]`` and ``counts[rows]`` (and ``spectrum[rows]``,
+    (height, width, C), unless it is :data:`_NO_SPECTRUM`).
 
     The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
     Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
@@ -88,7 +93,7 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
         try:
             with numba.parallel_chunksize(1):
                 render_rows(packed, _spread(rows), ROWS_PER_TASK, width, height, spp, seed, depth, threshold,
-                            image, counts, cancel)
+                            image, counts, spectrum, cancel)
         except BaseException as exc:  # re-raised in the calling thread
             failure.append(exc)
         finally:
@@ -129,11 +134,12 @@ def warm_up(packed: PackedScene):
 SCENE_SETTINGS = tuple(DEFAULTS)
 
 
-def resolve_settings(scene: Scene, names=None, **given) -> dict:
+def resolve_settings(scene: Scene, names=None, spectral_image=False, **given) -> dict:
     """The render settings: each one *given* (not None), else the scene's ``[render]`` table
     (``scene.render_defaults``), else :data:`DEFAULTS`; checked against
     :mod:`tracer.limits` (``names`` maps a setting to what the caller calls it in errors, e.g.
-    ``--depth``) and for memory, before any work.  Raises :class:`tracer.limits.LimitError`.
+    ``--depth``) and for memory (with a per-band image if *spectral_image*), before any work.
+    Raises :class:`tracer.limits.LimitError`.
 
     >>> from tracer import Scene
     >>> resolve_settings(Scene(render_defaults={"spp": 4}), width=64)["spp"]
@@ -147,13 +153,16 @@ def resolve_settings(scene: Scene, names=None, **given) -> dict:
     if unknown:
         raise TypeError(f"unknown render setting(s): {', '.join(sorted(unknown))}")
     settings = dict(DEFAULTS)
-    settings.update(scene.render_defaults)
+    # the [render] table's render settings (its display settings, exposure and view, are the
+    # outputs': tracer.output)
+    settings.update({k: v for k, v in scene.render_defaults.items() if k in DEFAULTS})
     settings.update({k: v for k, v in given.items() if v is not None})
     settings = check_settings(settings, names)
     if settings["spectral_method"] not in ("auto", "point", "band"):
         raise ValueError(f"{(names or {}).get('spectral_method', 'spectral_method')} must be one of "
                          f"'auto', 'point', 'band', got {settings['spectral_method']!r}")
-    check_memory(settings["width"], settings["height"])
+    check_memory(settings["width"], settings["height"],
+                 BYTES_PER_PIXEL + (8 * settings["spectral_samples"] if spectral_image else 0))
     return settings
 
 
@@ -170,23 +179,31 @@ def render_with_stats(
     spectral=None,
     spectral_method=None,
     progress=None,
+    spectral_image=False,
 ):
-    """Render and return ``(image, RenderStats)``; see :func:`render`."""
+    """Render and return ``(image, RenderStats)``; see :func:`render`.
+
+    *spectral_image*: also keep each pixel's radiance per wavelength band, returned as
+    ``stats.spectral_image`` (a :class:`tracer.output.SpectralImage`; :func:`render_spectral`).
+    """
     s = resolve_settings(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
-                         spectral_samples=spectral_samples, seed=seed, spectral_method=spectral_method)
+                         spectral_samples=spectral_samples, seed=seed, spectral_method=spectral_method,
+                         spectral_image=spectral_image)
     width, height, depth, spp, threshold = s["width"], s["height"], s["depth"], s["spp"], s["threshold"]
     seed, spectral_samples, spectral_method = s["seed"], s["spectral_samples"], s["spectral_method"]
+    spectral = _spectral_transport(spectral, spectral_image)
     packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral,
                         spectral_method=spectral_method)
     warm_up(packed)
     image = np.zeros((height, width, 3))
     counts = np.zeros((height, N_COUNTS), dtype=np.int64)
+    spectrum = np.zeros((height, width, packed.rgb_basis.shape[0])) if spectral_image else _NO_SPECTRUM
     t0 = time.perf_counter()
     # a first call on every 16th row measures the scene; the rest in one call if short, else in
     # interleaved parts of about CALL_SECONDS each behind a progress bar
     first, *_ = _interleaved(height, max(1, min(16, height), height // 64))
     rest = np.setdiff1d(np.arange(height, dtype=np.int64), first)
-    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts)
+    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum)
     per_row = (time.perf_counter() - t0) / first.size
     predicted = per_row * rest.size
     n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
@@ -199,7 +216,7 @@ def render_with_stats(
     try:
         for part in range(n_calls):
             rows = rest[part::n_calls]
-            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts)
+            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum)
             if bar is not None:
                 bar.update(rows.size)
     finally:
@@ -210,12 +227,46 @@ def render_with_stats(
     rays = {kind: int(n) for kind, n in zip(RAY_COUNT_KINDS, total)}
     rays["total"] = sum(rays.values())
     method = ("band" if packed.band_mode else "point") if packed.spectral else ""
-    return image, RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0], method)
+    stats = RenderStats(seconds, rays, packed.spectral, packed.rgb_basis.shape[0], method)
+    if spectral_image:
+        stats.spectral_image = _spectral_image(packed, spectrum, image, method)
+    return image, stats
+
+
+def _spectral_transport(spectral, spectral_image):
+    """The ``spectral`` argument of :func:`tracer.pack.pack_scene`: a spectral image needs
+    spectral transport, so it forces it (``spectral=None`` becomes True) and refuses False."""
+    if not spectral_image:
+        return spectral
+    if spectral is not None and not spectral:
+        raise ValueError("a spectral image needs spectral transport: spectral=False cannot be combined with it")
+    return True
+
+
+def _spectral_image(packed: PackedScene, spectrum, image, method):
+    from bubbleoptics.colorimetry import XYZ_TO_LINEAR_SRGB
+
+    to_rgb = np.array(packed.to_rgb)
+    return SpectralImage(radiance=spectrum, wavelengths_nm=np.array(packed.wavelengths),
+                         band_edges_nm=np.array(packed.band_edges), to_rgb=to_rgb,
+                         to_xyz=np.linalg.solve(XYZ_TO_LINEAR_SRGB, to_rgb), rgb=image, spectral_method=method)
 
 
 def render(scene: Scene, *, width=None, height=None, depth=None, spp=None, threshold=None,
            spectral_samples=None, seed=None, spectral=None, spectral_method=None, progress=None):
-    """Render *scene* to an (height, width, 3) float array of linear sRGB radiance.
+    """Render *scene* to an (height, width, 3) float64 array of linear sRGB radiance.
+
+    The values are radiance, not display values: **they may be greater than 1** (highlights,
+    the sky) **and negative**.  A negative channel is a colour outside the sRGB gamut: the
+    saturated, nearly spectral colours of thin films (and any spectrum whose XYZ falls outside
+    the sRGB triangle) need a negative amount of some primary; the renderer keeps them, so
+    that the image converts exactly to XYZ and to wider gamuts.  What the outputs do with them
+    (:func:`tracer.save_image`, :mod:`tracer.output`): ``.png`` clips each channel to [0, 1]
+    in linear light before the sRGB curve (``view="clip"``, the default) or compresses them
+    into the display gamut with the ACES 2.0 view (``view="aces"``); ``.npy`` and ``.exr`` keep
+    them as they are (``.exr`` of halves saturates at +-65504); ``.hdr`` (Radiance RGBE, which
+    stores no sign) writes them as 0.  RGB transport (a scene without bubbles, or
+    ``spectral=False``) stays within [0, inf) for in-gamut scene colours.
 
     Every setting left at None takes its value from the scene's ``[render]`` table (a TOML
     file's, ``scene.render_defaults``), else from :data:`DEFAULTS`; all are checked against
@@ -236,58 +287,39 @@ def render(scene: Scene, *, width=None, height=None, depth=None, spp=None, thres
         alias, :func:`tracer.pack.resolve_spectral_method`).
     seed : random seed (0 to 2**63 - 1); the image depends on it but not on the thread count.
     progress : show a progress bar (default: when stderr is a terminal).
+
+    The per-band image behind the RGB one: :func:`render_spectral`.
     """
     return render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
                              spectral_samples=spectral_samples, seed=seed, spectral=spectral,
                              spectral_method=spectral_method, progress=progress)[0]
 
 
-def save_image(image, path, *, bits=8):
-    """Save a linear-RGB image: ``.png`` as sRGB-encoded 8- or 16-bit, ``.npy`` as float linear RGB.
+def render_spectral(scene: Scene, *, width=None, height=None, depth=None, spp=None, threshold=None,
+                    spectral_samples=None, seed=None, spectral=None, spectral_method=None,
+                    progress=None) -> SpectralImage:
+    """Render *scene* and return its :class:`~tracer.output.SpectralImage`: each pixel's mean
+    radiance per wavelength band (``radiance``, (height, width, spectral_samples)), the bands'
+    centres and edges in nm, the matrices to linear sRGB and CIE XYZ, and the RGB image of the
+    same render (``rgb``, what :func:`render` returns for this scene with ``spectral=True``).
+    Save it with :func:`tracer.save_spectral` (``.npz``).
 
-    PNG values are clipped to [0, 1] in linear light (NaN as 0), encoded with the sRGB curve
-    and rounded to the nearest code (:func:`bubbleoptics.kernels.srgb_encode_quantized_array`);
-    no other tone mapping.  The file is written atomically (a temporary file in the same
-    folder, then renamed), so a failed write leaves nothing behind.
+    The bands are those of the spectral transport, so a spectral image is always spectral: for
+    a scene without bubbles (which :func:`render` traces in RGB) this renders with
+    ``spectral=True``, and its ``rgb`` is that render's, which differs from the RGB-transport
+    image of :func:`render` (the scene's RGB colours enter through a spectral basis:
+    :func:`tracer.pack.channel_setup`).  ``spectral=False`` is refused with a
+    :class:`ValueError`.  Other parameters as in :func:`render`.  Memory: the cube is
+    height x width x spectral_samples float64 (16 bands at 960x960: 118 MB).  The first spectral
+    image after installing compiles the integrator's per-band variant into numba's cache (about
+    as long as the first render's compilation).
+
+    >>> import tracer
+    >>> cube = tracer.render_spectral(tracer.default_scene(), width=8, height=6, progress=False)
+    >>> cube.radiance.shape, cube.wavelengths_nm.shape, cube.band_edges_nm[[0, -1]].tolist()
+    ((6, 8, 16), (16,), [360.0, 780.0])
     """
-    path = Path(path)
-    image = np.asarray(image, dtype=float)
-    if image.ndim != 3 or image.shape[2] != 3:
-        raise ValueError(f"image must have shape (H, W, 3) (got {image.shape})")
-    suffix = path.suffix.lower()
-    if suffix == ".npy":
-        def write_npy(tmp):  # through a file object: np.save(name) would append ".npy" to the temp name
-            with open(tmp, "wb") as f:
-                np.save(f, image)
-
-        write_atomically(path, write_npy)
-        return path
-    if suffix != ".png":
-        raise ValueError(f"unsupported image type {path.suffix!r}: use .png or .npy")
-    if bits not in (8, 16):
-        raise ValueError(f"bits must be 8 or 16 (got {bits!r})")
-    from bubbleoptics.kernels import srgb_encode_quantized_array
-
-    levels = 255 if bits == 8 else 65535
-    data = np.empty(image.size, dtype=np.uint8 if bits == 8 else np.uint16)
-    srgb_encode_quantized_array(np.ascontiguousarray(image).ravel(), float(levels), data)
-    data = data.reshape(image.shape)
-    if bits == 8:
-        # Pillow directly (the writer imageio itself uses for PNG): imageio's plugin machinery
-        # costs a fresh process a tenth of a second before the first write
-        from PIL import Image
-
-        write_atomically(path, lambda tmp: Image.fromarray(data, mode="RGB").save(
-            tmp, format="PNG", compress_level=PNG_COMPRESS_LEVEL))
-    else:
-        # Pillow has no 16-bit-per-channel RGB mode; pypng writes it
-        import png
-
-        h, w, _ = data.shape
-
-        def write_png16(tmp):
-            with open(tmp, "wb") as f:
-                png.Writer(width=w, height=h, bitdepth=16, greyscale=False).write(f, data.reshape(h, w * 3))
-
-        write_atomically(path, write_png16)
-    return path
+    _, stats = render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
+                                 spectral_samples=spectral_samples, seed=seed, spectral=spectral,
+                                 spectral_method=spectral_method, progress=progress, spectral_image=True)
+    return stats.spectral_image

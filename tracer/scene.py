@@ -4,7 +4,8 @@ Units: lengths in scene units (any unit, used consistently; the coursework's fil
 screen-like units where a 960x960 image spans about 0-960), film thickness in nanometres, angles
 in radians (the camera's field of view in degrees, as people say it), colours as linear RGB in
 [0, 1] (the coursework's 0-255 integers are converted by the loader), light intensities as
-non-negative multipliers of the light's spectrum (CIE D65 unless given).
+non-negative multipliers of the light's spectrum (CIE D65 unless given), and in W/sr for
+lights with inverse-square falloff (:class:`PointLight`).
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ __all__ = [
     "Bubble",
     "Mesh",
     "PointLight",
+    "LIGHT_FALLOFFS",
+    "MAX_LIGHT_SAMPLES",
     "Camera",
     "Environment",
     "Scene",
@@ -137,13 +140,72 @@ class Mesh:
     shading: str = "flat"
 
 
+#: How a light's strength depends on the distance r to its centre (:class:`PointLight`).
+LIGHT_FALLOFFS = ("none", "inverse_square")
+#: A spherical light's sample count (:attr:`PointLight.samples`) lies in 1..MAX_LIGHT_SAMPLES:
+#: every sample is a shadow ray at every shaded point, so 1024 already makes a light cost as
+#: much as a thousand point lights.
+MAX_LIGHT_SAMPLES = 1024
+
+
 @dataclass
 class PointLight:
-    """A point light: ``intensity`` times a spectrum (``color`` linear RGB tint of D65)."""
+    """A light: a point (``radius`` 0) or a uniformly emitting sphere, with a D65 spectrum
+    tinted by ``color`` (linear RGB) and scaled by ``intensity``.
+
+    **The renderer's radiance scale.**  Pixel values are radiance L (linear sRGB, channel
+    values as factors on D65, :func:`tracer.pack.channel_setup`): an environment of intensity 1
+    seen directly is 1.  Read 1 as 1 W m⁻² sr⁻¹ and every quantity below is in SI units
+    (lengths in metres).  A Phong surface (:mod:`tracer.surfaces.phong`) sends the viewer
+    ``S · (kd (N·L) C + ks (R·V)^s)`` from a light, a soap film ``S · R (R·V)^s``, times the
+    shadow ray's transmittance, where S, the light's *strength* at the shaded point, is set
+    by ``falloff``:
+
+    * ``"none"`` (the default; the coursework's lights, which do not dim with distance):
+      ``S = intensity``, a pure number: the radiance of a white (kd C = 1) Lambertian surface
+      facing the light, at any distance.
+    * ``"inverse_square"``: ``intensity`` is the radiant intensity I in W/sr (the same in
+      every direction; a power Φ in W is I = Φ / 4π) and ``S = I / (π r²)``, r the distance
+      to the light's centre: the irradiance E = I cos θ / r² of a point source, turned into
+      radiance by the Lambertian BRDF kd C / π (PBRT 4th ed. :cite:`PBRT4`, point lights and
+      the Lambertian BRDF).  The Phong specular term and the film highlight, which are not
+      normalised BRDFs, are scaled by the same S.
+
+    **Spherical lights** (``radius`` a > 0): a sphere of uniform radiance L_e whose radiant
+    intensity seen from outside is π a² L_e, equal to ``intensity`` (so L_e = I / (π a²) for
+    ``"inverse_square"``; for ``"none"`` L_e = S / sin²α, which keeps the coursework's
+    distance-free strength).  From a point at distance d > a it fills the cone of half-angle
+    α, sin α = a / d, of solid angle Ω = 2π (1 − cos α).  The irradiance it gives a Lambertian
+    surface whose horizon it lies entirely above is E = π L_e sin²α cos θ (θ between the normal
+    and the direction to the centre; the view factor of a sphere, Howell et al.
+    :cite:`Howell2021`), exactly what a point light of the same intensity at its centre gives:
+    a sphere light differs from a point light only where it is partly hidden, by an occluder
+    (soft shadows) or by the horizon.  The renderer estimates, for each of ``samples``
+    directions ω_k stratified over the cone (uniform in solid angle, which for a sphere is
+    exact: every direction of the cone meets it; Shirley, Wang & Zimmerman :cite:`Shirley1996`,
+    PBRT's sphere sampling :cite:`PBRT4`),
+
+        L ≈ S · Ω / (π sin²α) · (1/N) Σ_k f(ω_k) V(ω_k),   Ω / (π sin²α) = 2 / (1 + cos α),
+
+    with f the surface's response above (diffuse, Phong and film highlights alike evaluated at
+    the sample direction ω_k) and V(ω_k) the transmittance of a shadow ray to the sphere's near
+    surface along ω_k.  A point inside the sphere (d < a) is surrounded by it: the cone is the
+    whole sphere of directions (Ω = 4π, sin α = 1), S is taken at d = a, and the point is lit
+    from its whole upper hemisphere (E = π L_e).  ``radius`` 0 is exactly the point light (one
+    shadow ray to the centre).  The sample directions are a hash of the camera sample (seed,
+    pixel, sample: :func:`tracer.sampling.sample_key`), the shaded point's place in its ray
+    tree, the light and the sample (:func:`tracer.sampling.cone_sample`), so an image does not
+    depend on the thread count or the run, and another seed gives other light samples.
+
+    ``samples`` (1 to :data:`MAX_LIGHT_SAMPLES`) is used only when ``radius`` > 0.
+    """
 
     position: tuple[float, float, float]
     intensity: float = 1.0
     color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    radius: float = 0.0
+    falloff: str = "none"
+    samples: int = 16
 
 
 @dataclass

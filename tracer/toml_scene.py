@@ -12,7 +12,7 @@ A scene file has these tables, all optional except that at least one object must
     [[bubbles]]      name, center, radius, n_film, shininess, and a [bubbles.film] table
     [[meshes]]       name, path | vertices + faces (0-based) [+ normals], material, translate,
                      scale, shading
-    [[lights]]       position, intensity, color
+    [[lights]]       position, intensity | power, color, falloff, radius, samples
 
 Every key is checked: an unknown key (a typo) is an error naming it, as is a value of the wrong
 type or out of range.  Errors carry the line of the offending key where it can be found (a
@@ -40,7 +40,10 @@ from .assets import AssetError, load_environment_image, load_film_map, load_mesh
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
 from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, MAX_INDEX, MAX_MAGNITUDE
+from .output import MAX_EXPOSURE, VIEWS
 from .scene import (
+    LIGHT_FALLOFFS,
+    MAX_LIGHT_SAMPLES,
     Bubble,
     Camera,
     Environment,
@@ -233,7 +236,7 @@ class _Ctx:
                 hint = f"; did you mean '{close[0]}'?" if close else ""
                 raise self.error(
                     kp + (key,),
-                    f"unknown key '{key}' in {where}{hint} (allowed: {', '.join(sorted(allowed))})",
+                    f"unknown key '{_short(key, 40)}' in {where}{hint} (allowed: {', '.join(sorted(allowed))})",
                 )
         for key in required:
             if key not in table:
@@ -319,9 +322,9 @@ def _typename(v) -> str:
             list: "an array", dict: "a table"}.get(type(v), type(v).__name__)
 
 
-def _short(v) -> str:
-    s = repr(v)
-    return s if len(s) <= 60 else s[:57] + "..."
+def _short(v, limit=60) -> str:
+    s = v if isinstance(v, str) and limit != 60 else repr(v)
+    return s if len(s) <= limit else s[:limit - 3] + "..."
 
 
 _TOP = {"scene", "camera", "environment", "render", "materials", "spheres", "bubbles", "meshes", "lights"}
@@ -338,8 +341,9 @@ _FILM_KEYS = {
     "map": {"kind", "path"} | _SWIRL_KEYS,
 }
 _RENDER_INT = {k: LIMITS[k] for k in ("width", "height", "depth", "spp", "spectral_samples", "seed")}
-_RENDER_FLOAT = {"threshold": 0.0}
-_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band")}
+#: number keys: (lowest, highest or None)
+_RENDER_FLOAT = {"threshold": (0.0, None), "exposure": (-MAX_EXPOSURE, MAX_EXPOSURE)}
+_RENDER_CHOICE = {"spectral_method": ("auto", "point", "band"), "view": VIEWS}
 
 
 def parse_toml_text(text: str, path="<string>") -> Scene:
@@ -406,17 +410,49 @@ def parse_toml_text(text: str, path="<string>") -> Scene:
         scene.meshes.append(_mesh(c, ("meshes", i), t, materials))
 
     for i, t in enumerate(c.array_of_tables(("lights",), doc.get("lights", []))):
-        kp = ("lights", i)
-        c.keys(kp, t, {"position", "intensity", "color"}, ("position",), "[[lights]]")
-        scene.lights.append(PointLight(
-            position=c.vec3(kp + ("position",), t["position"]),
-            intensity=c.number(kp + ("intensity",), t.get("intensity", 1.0), 0.0),
-            color=c.color(kp + ("color",), t["color"], albedo=False) if "color" in t else (1.0, 1.0, 1.0),
-        ))
+        scene.lights.append(_light(c, ("lights", i), t, sc.get("unit", "m")))
 
     if not (scene.spheres or scene.bubbles or scene.meshes):
         raise SceneError(path, None, "no objects: the file has no [[spheres]], [[bubbles]] or [[meshes]]")
     return scene
+
+
+_LIGHT_KEYS = {"position", "intensity", "power", "color", "falloff", "radius", "samples"}
+
+
+def _light(c: _Ctx, kp, t, unit) -> PointLight:
+    """A [[lights]] table: a point or spherical light, unattenuated (the coursework's) or with
+    inverse-square falloff in physical units (intensity in W/sr or power in W, lengths in m)."""
+    c.keys(kp, t, _LIGHT_KEYS, ("position",), "[[lights]]")
+    d = PointLight(position=(0.0, 0.0, 0.0))
+    falloff = c.string(kp + ("falloff",), t.get("falloff", d.falloff))
+    if falloff not in LIGHT_FALLOFFS:
+        raise c.bad(kp + ("falloff",), f"must be one of {', '.join(map(repr, LIGHT_FALLOFFS))}, got '{falloff}'")
+    physical = falloff == "inverse_square"
+    if physical and unit != "m":
+        raise c.bad(kp + ("falloff",), f"'inverse_square' takes lengths in metres, but [scene] unit is '{unit}':"
+                                       " write the scene in metres (unit = \"m\")")
+    if "power" in t:
+        if "intensity" in t:
+            raise c.bad(kp + ("power",), "give either 'intensity' (W/sr) or 'power' (W), not both")
+        if not physical:
+            raise c.bad(kp + ("power",), "a power in watts needs falloff = \"inverse_square\" (the default"
+                                         " \"none\" is the coursework's light, which does not dim with distance)")
+        # an isotropic source of power P has the radiant intensity P / 4 pi in every direction
+        intensity = c.number(kp + ("power",), t["power"], 0.0) / (4.0 * math.pi)
+    else:
+        intensity = c.number(kp + ("intensity",), t.get("intensity", d.intensity), 0.0)
+    samples = t.get("samples", d.samples)
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= MAX_LIGHT_SAMPLES:
+        raise c.bad(kp + ("samples",), f"must be an integer from 1 to {MAX_LIGHT_SAMPLES}, got {_short(samples)}")
+    return PointLight(
+        position=c.vec3(kp + ("position",), t["position"]),
+        intensity=intensity,
+        color=c.color(kp + ("color",), t["color"], albedo=False) if "color" in t else d.color,
+        radius=c.number(kp + ("radius",), t.get("radius", d.radius), 0.0),
+        falloff=falloff,
+        samples=samples,
+    )
 
 
 def _camera(c: _Ctx, t) -> Camera:
@@ -475,10 +511,10 @@ def _render(c: _Ctx, t) -> dict:
             out[key] = c.integer(kp + (key,), v, *_RENDER_INT[key])
         elif key in _RENDER_CHOICE:
             if v not in _RENDER_CHOICE[key]:
-                raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {v!r}")
+                raise c.bad(kp + (key,), f"must be one of {', '.join(map(repr, _RENDER_CHOICE[key]))}, got {_short(v)}")
             out[key] = v
         else:
-            out[key] = c.number(kp + (key,), v, _RENDER_FLOAT[key])
+            out[key] = c.number(kp + (key,), v, *_RENDER_FLOAT[key])
     if out.get("threshold", 1.0) == 0.0 and out.get("depth", 1) > MAX_EXHAUSTIVE_DEPTH:
         raise c.bad(kp + ("depth",), f"must be at most {MAX_EXHAUSTIVE_DEPTH} when render.threshold is 0 (the "
                                      f"exhaustive tree has up to 2^depth - 1 rays a sample), got {out['depth']}")

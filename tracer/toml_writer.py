@@ -18,7 +18,7 @@ import tomli_w
 
 from bubbleoptics.atomic import write_atomically
 
-from .scene import FilmProfile, Material, Scene
+from .scene import FilmProfile, Material, PointLight, Scene
 
 __all__ = ["scene_to_toml_text", "save_toml_scene"]
 
@@ -61,6 +61,23 @@ def _environment_dict(env, save_array) -> dict:
     else:
         raise ValueError(f"unknown environment kind {env.kind!r}")
     return e
+
+
+def _light_dict(light: PointLight, unit: str) -> dict:
+    """A light's table: position, intensity, colour, and falloff, radius and samples where they
+    differ from a point light's defaults (so a coursework light is written as before)."""
+    ld = {"position": light.position, "intensity": light.intensity, "color": light.color}
+    default = PointLight(position=light.position)
+    if light.falloff != default.falloff:
+        if light.falloff == "inverse_square" and unit != "m":
+            raise ValueError(f"a light with inverse-square falloff takes lengths in metres: write the scene"
+                             f" with unit='m' (got unit={unit!r})")
+        ld["falloff"] = light.falloff
+    if light.radius != default.radius:
+        ld["radius"] = light.radius
+    if light.samples != default.samples:
+        ld["samples"] = light.samples
+    return ld
 
 
 def _film_dict(b, i, save_array) -> dict:
@@ -142,8 +159,7 @@ def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header:
                     **({} if m.normals is None else {"normals": np.asarray(m.normals, float)}),
                     "shading": m.shading}
                    for m in scene.meshes],
-        "lights": [{"position": light.position, "intensity": light.intensity, "color": light.color}
-                   for light in scene.lights],
+        "lights": [_light_dict(light, unit) for light in scene.lights],
     }
     doc.update((key, items) for key, items in objects.items() if items)
     text = tomli_w.dumps(_plain(doc))

@@ -45,9 +45,11 @@ def ambient(scene, kind, index, w, L):
 
 @njit(**_INLINE)
 def toward_light(scene, ws, kind, index, hit, ndl, rv, out):
-    """Per unit of a point light's radiance, what the surface sends to the viewer (per channel,
-    into *out*); *ndl* = N·L with the facing normal, *rv* = R·V of the light's mirror direction
-    (0 when the light is behind).  False: nothing (and no shadow ray needed)."""
+    """Per unit of a light's strength, what the surface sends to the viewer (per channel, into
+    *out*); *ndl* = N·L with the facing normal, *rv* = R·V of the light's mirror direction
+    (0 when the light is behind).  False: nothing (and no shadow ray needed).  A spherical
+    light asks once per sample direction, with that direction's N·L and R·V
+    (:func:`tracer.integrator.sphere_light`)."""
     if kind == SURFACE_FILM:
         return film_toward_light(scene, ws, index, hit, ndl, rv, out)
     return phong_toward_light(scene, ws, index, hit, ndl, rv, out)

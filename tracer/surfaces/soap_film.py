@@ -12,7 +12,9 @@ it answers the integrator's questions (:mod:`tracer.surfaces`):
   ``PackedScene.band_mode`` is 1 (:func:`~bubbleoptics.kernels.film_band_average_nb`);
 * **toward a light**: a Phong-lobe highlight :math:`R\\,(R\\cdot V)^{s}` in the mirror direction
   (s = the film's shininess; a point light has no extent, so this lobe stands in for the
-  reflected image of a small source);
+  reflected image of a small source; a spherical light sums the lobes of its sample
+  directions, :func:`tracer.integrator.sphere_light`, which widens the highlight with the
+  light);
 * **shadow**: a shadow ray crossing the film is multiplied by T;
 * **what a cut child still carries**: every chord of a sphere meets it at both ends at the
   same angle, and reflection keeps that angle, so a ray inside a bubble meets the film again

@@ -1,0 +1,356 @@
+"""Render a movie: frames of a :class:`~tracer.movie_commands.Timeline`, cached, then assembled.
+
+:func:`render_movie` renders each frame of the timeline that its cache does not hold yet,
+here (one process, all numba threads) or on a Dask cluster (``client``, or ``workers=N`` for a
+:class:`distributed.LocalCluster`, or ``scheduler=ADDRESS``), and writes the movie:
+
+* ``OUT.mp4``: H.264 in yuv420p (``imageio-ffmpeg``; width and height must be even);
+* ``OUT.gif``: an animated GIF (imageio's Pillow writer, looping);
+* any other ``OUT``: a folder of lossless frames ``0000.png``, ``0001.png``, ...
+
+Frames are cached as PNG files in the folder ``OUT.cache`` next to ``OUT``, each named by the
+hash of its description (:meth:`~tracer.movie_commands.Frame.key`: the scene as the frame shows
+it, the render settings, the film time, the bit depth), and written atomically; a movie
+interrupted (Ctrl-C, a lost worker) and run again with the same arguments renders only the
+frames the cache lacks. ``OUT`` itself is written at the end, atomically (a temporary file or
+folder beside it, then renamed). Everything a movie needs is checked before any work: a bad
+output, commands or setting writes nothing at all.
+
+A frame's image is :func:`render_frame_png` of its description: the same function serially and
+on every worker, a module-level function (so that workers import it and load the numba kernels
+from the on-disk cache, :func:`worker_numba_cache_stats`), and the image does not depend on the
+thread count, so distributed frames are bit for bit the serial ones.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from bubbleoptics.atomic import write_atomically
+
+from .movie_commands import Frame, Timeline
+from .render import render, resolve_settings, save_image
+from .scene import Scene
+
+__all__ = ["render_movie", "render_frame_png", "check_movie_output", "movie_cache_folder", "MovieResult",
+           "local_cluster", "worker_numba_cache_stats", "DEFAULT_FPS"]
+
+DEFAULT_FPS = 24
+#: A folder movie's frame files (and what an existing OUT folder may hold to be replaced).
+_FRAME_FILE = re.compile(r"\d{4,}\.png")
+#: Suffixes that mean a file, not a folder of frames: refused rather than made into a folder.
+_NOT_A_MOVIE = {".png", ".npy", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".avi", ".mov", ".mkv", ".webm", ".txt",
+                ".toml"}
+
+
+@dataclass
+class MovieResult:
+    """What :func:`render_movie` did: the movie's path, its frame count, how many frames were
+    rendered now (the rest came from the cache), the cache folder, and seconds spent rendering
+    and encoding."""
+
+    path: Path
+    frames: int
+    rendered: int
+    cache: Path
+    render_seconds: float = 0.0
+    encode_seconds: float = 0.0
+
+
+# ------------------------------------------------------------------------------------------
+# output
+# ------------------------------------------------------------------------------------------
+def _kind(out: Path):
+    suffix = out.suffix.lower()
+    return {".mp4": "mp4", ".gif": "gif"}.get(suffix, "folder")
+
+
+def movie_cache_folder(out) -> Path:
+    """The frame cache of the movie *out*: the folder ``OUT.cache`` beside it."""
+    out = Path(out)
+    return out.with_name(out.name + ".cache")
+
+
+def check_movie_output(out) -> tuple[Path, str]:
+    """``(Path, kind)`` for the movie output *out* (kind ``"mp4"``, ``"gif"`` or ``"folder"``),
+    checked before any work: its folder exists and is writable, an ``.mp4``/``.gif`` is not a
+    folder, and a folder movie is not a file nor a folder holding anything but frames
+    ``NNNN.png`` (a previous movie, which is replaced). ValueError otherwise."""
+    out = Path(out)
+    kind = _kind(out)
+    folder = out.parent
+    if not out.name or out.name in (".", ".."):
+        raise ValueError(f"{out}: give the movie a name (OUT.mp4, OUT.gif or a folder name)")
+    if kind == "folder" and out.suffix.lower() in _NOT_A_MOVIE:
+        raise ValueError(f"{out}: a movie is written as .mp4, .gif or a folder of PNG frames (a name without "
+                         f"{out.suffix})")
+    if not folder.is_dir():
+        raise ValueError(f"{out}: folder {folder} does not exist")
+    if kind != "folder" and out.is_dir():
+        raise ValueError(f"{out}: is a folder, not a file name")
+    if kind == "folder":
+        if out.exists() and not out.is_dir():
+            raise ValueError(f"{out}: is a file; a movie not ending in .mp4 or .gif is a folder of PNG frames")
+        if out.is_dir():
+            others = sorted(p.name for p in out.iterdir() if not _FRAME_FILE.fullmatch(p.name))
+            if others:
+                raise ValueError(f"{out}: the folder exists and holds other files than frames NNNN.png "
+                                 f"({', '.join(others[:3])}{', ...' if len(others) > 3 else ''}); "
+                                 "give a new folder name")
+    cache = movie_cache_folder(out)
+    if cache.exists() and not cache.is_dir():
+        raise ValueError(f"{cache}: the frame cache's name is taken by a file")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=f".{out.name}.", suffix=".probe"):
+            pass
+    except OSError as err:
+        raise ValueError(f"{out}: cannot write in folder {folder} ({err.strerror or err})") from None
+    return out, kind
+
+
+# ------------------------------------------------------------------------------------------
+# one frame (the task)
+# ------------------------------------------------------------------------------------------
+def render_frame_png(frame: Frame, bits: int = 8) -> bytes:
+    """The PNG file (bytes) of *frame*: :func:`tracer.render` of its scene with its settings,
+    saved by :func:`tracer.save_image` exactly as ``tracer image`` saves it.
+
+    The task every worker runs: a module-level function, so a worker imports ``tracer`` (and
+    loads its kernels from numba's cache) rather than receiving a pickled copy.
+    """
+    image = render(frame.scene, **frame.settings, progress=False)
+    with tempfile.TemporaryDirectory(prefix="tracer-frame-") as tmp:
+        path = Path(tmp) / "frame.png"
+        save_image(image, path, bits=bits)
+        return path.read_bytes()
+
+
+def worker_numba_cache_stats() -> dict:
+    """numba's cache hits and misses (compilations) of the integrator's row kernel in this
+    process, and numba's thread count: ``{"hits": n, "misses": m, "threads": t}``. Run on workers (``client.run``) to check that they
+    loaded the kernels rather than compiling them."""
+    import numba
+
+    from .integrator import render_rows
+
+    stats = render_rows.stats
+    return {"hits": int(sum(stats.cache_hits.values())), "misses": int(sum(stats.cache_misses.values())),
+            "threads": int(numba.config.NUMBA_NUM_THREADS)}
+
+
+# ------------------------------------------------------------------------------------------
+# Dask
+# ------------------------------------------------------------------------------------------
+def local_cluster(workers: int):
+    """A :class:`distributed.LocalCluster` of *workers* processes with one thread each, and
+    ``NUMBA_NUM_THREADS=1`` in every worker (numba reads it when it is first imported), so that
+    the workers share the cores rather than each starting one numba thread per core."""
+    from distributed import LocalCluster
+
+    env = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    return LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None,
+                        scheduler_kwargs={"dashboard_address": ":0"},  # its HTTP server on a free port
+                        env=env, silence_logs=50)  # CRITICAL: no shutdown chatter on stderr
+
+
+def _render_distributed(client, todo, bits, keys, store, bar):
+    """Render the frames *todo* on *client*'s cluster, ``store(frame, png)`` each as it comes."""
+    from distributed import as_completed
+
+    futures = client.map(render_frame_png, todo, bits=bits, key=[f"tracer-frame-{k}" for k in keys],
+                         retries=3, pure=False)
+    by_key = {f.key: frame for f, frame in zip(futures, todo)}
+    try:
+        for future, png in as_completed(futures, with_results=True):
+            store(by_key[future.key], png)
+            if bar is not None:
+                bar.update(1)
+    finally:
+        client.cancel([f for f in futures if not f.done()])
+
+
+# ------------------------------------------------------------------------------------------
+# assembling
+# ------------------------------------------------------------------------------------------
+def _read_png(path):
+    import imageio.v3 as iio
+
+    return iio.imread(path)
+
+
+def _write_mp4(out: Path, paths, fps):
+    import imageio_ffmpeg
+
+    first = _read_png(paths[0])
+    h, w = first.shape[:2]
+
+    def write(tmp):
+        writer = imageio_ffmpeg.write_frames(tmp, (w, h), fps=fps, codec="libx264", pix_fmt_in="rgb24",
+                                             pix_fmt_out="yuv420p", macro_block_size=1, quality=None,
+                                             output_params=["-f", "mp4", "-crf", "18"], ffmpeg_log_level="error")
+        writer.send(None)
+        try:
+            for p in paths:
+                writer.send(_read_png(p)[..., :3].tobytes())
+        finally:
+            writer.close()
+
+    write_atomically(out, write)
+
+
+def _write_gif(out: Path, paths, fps):
+    import imageio.v3 as iio
+    import numpy as np
+
+    frames = np.stack([_read_png(p)[..., :3] for p in paths])
+    write_atomically(out, lambda tmp: iio.imwrite(tmp, frames, extension=".gif", duration=1000.0 / fps, loop=0))
+
+
+def _write_folder(out: Path, paths):
+    digits = max(4, len(str(len(paths) - 1)))
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    old = None
+    try:
+        for i, p in enumerate(paths):
+            shutil.copyfile(p, tmp / f"{i:0{digits}d}.png")
+        os.chmod(tmp, 0o777 & ~_umask())
+        if out.is_dir():  # a previous movie (check_movie_output allowed it): swap it out
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
+            os.replace(out, old / "movie")
+        os.replace(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        if old is not None and (old / "movie").is_dir() and not out.exists():
+            os.replace(old / "movie", out)
+        raise
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+def _umask():
+    m = os.umask(0)
+    os.umask(m)
+    return m
+
+
+# ------------------------------------------------------------------------------------------
+# the movie
+# ------------------------------------------------------------------------------------------
+def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=None, fps=DEFAULT_FPS, bits=8,
+                 progress=None, names=None, **render_options) -> MovieResult:
+    """Render the movie of *commands* applied to *scene* into *out*; returns a :class:`MovieResult`.
+
+    Parameters
+    ----------
+    scene : a :class:`~tracer.scene.Scene`, or a scene file's path.
+    commands : a :class:`~tracer.movie_commands.Timeline` (built on *scene*), or a commands
+        file's path (``docs/movies.md``).
+    out : ``NAME.mp4`` (H.264, yuv420p: even width and height), ``NAME.gif``, or a folder name
+        (frames ``0000.png``...). Frames are cached in ``OUT.cache`` (:func:`movie_cache_folder`).
+    client : a :class:`distributed.Client` to render the frames on; or *workers* (a
+        LocalCluster of that many one-thread processes, started and stopped here) or
+        *scheduler* (the address of a running scheduler); default: here, serially.
+    fps : frames per second of an ``.mp4`` or ``.gif`` (1-1000).
+    bits : PNG bit depth of the frames (16 only for a folder of frames).
+    progress : a progress bar over frames (default: when stderr is a terminal).
+    names : what the caller calls each render setting in errors (the command line's options).
+    render_options : :func:`tracer.render`'s settings (width, height, depth, spp, threshold,
+        spectral_samples, seed, spectral_method), else the scene's ``[render]`` table, else
+        :data:`tracer.DEFAULTS`.
+
+    Everything is checked before any work (ValueError, or a :class:`~tracer.errors.SceneError`
+    ``FILE:LINE: ...`` for the scene and the commands), and nothing is written then.
+    """
+    out, kind = check_movie_output(out)
+    if not isinstance(scene, Scene):
+        from .io import load_scene
+
+        scene = load_scene(scene)
+    timeline = commands if isinstance(commands, Timeline) else Timeline.from_file(scene, commands)
+    settings = resolve_settings(scene, names=names, **render_options)
+    if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not 1 <= fps <= 1000:
+        raise ValueError(f"{(names or {}).get('fps', 'fps')} must be a number from 1 to 1000, got {fps!r}")
+    if bits not in (8, 16):
+        raise ValueError(f"bits must be 8 or 16, got {bits!r}")
+    if bits == 16 and kind != "folder":
+        raise ValueError(f"{out}: 16-bit frames are for a folder of PNG frames; an .{kind} holds 8-bit colour")
+    if kind == "mp4" and (settings["width"] % 2 or settings["height"] % 2):
+        w, h = (names or {}).get("width", "width"), (names or {}).get("height", "height")
+        raise ValueError(f"{out}: an .mp4 (H.264, yuv420p) needs an even width and height, got "
+                         f"{settings['width']} x {settings['height']} ({w}, {h})")
+    if sum(x is not None for x in (client, workers, scheduler)) > 1:
+        raise ValueError("give at most one of client, workers and scheduler")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    if workers is not None or scheduler is not None:
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise ValueError("rendering on a Dask cluster needs dask.distributed: pip install "
+                             "'bubbleoptics[dask]'") from None
+    frames = timeline.frames(settings)
+
+    cache = movie_cache_folder(out)
+    keys = [f.key(bits) for f in frames]
+    paths = [cache / f"{k}.png" for k in keys]
+    todo, todo_keys, seen = [], [], set()
+    for f, k, p in zip(frames, keys, paths):
+        if k not in seen and not p.is_file():  # identical frames are rendered once
+            todo.append(f)
+            todo_keys.append(k)
+        seen.add(k)
+
+    def store(frame, png):
+        write_atomically(cache / f"{frame.key(bits)}.png", lambda tmp: Path(tmp).write_bytes(png))
+
+    t_render = time.perf_counter()
+    if todo:
+        cache.mkdir(exist_ok=True)
+        show = sys.stderr.isatty() if progress is None else progress
+        bar = None
+        if show:
+            from tqdm import tqdm
+
+            bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), unit="frame", desc="movie",
+                       file=sys.stderr)
+        try:
+            if client is None and workers is None and scheduler is None:
+                for frame in todo:
+                    store(frame, render_frame_png(frame, bits))
+                    if bar is not None:
+                        bar.update(1)
+            elif client is not None:
+                _render_distributed(client, todo, bits, todo_keys, store, bar)
+            else:
+                from distributed import Client
+
+                if workers is not None:
+                    with local_cluster(workers) as cluster, Client(cluster) as c:
+                        _render_distributed(c, todo, bits, todo_keys, store, bar)
+                else:
+                    try:
+                        c = Client(scheduler, timeout="10s")
+                    except (OSError, TimeoutError) as err:
+                        raise ValueError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from None
+                    with c:
+                        _render_distributed(c, todo, bits, todo_keys, store, bar)
+        finally:
+            if bar is not None:
+                bar.close()
+    t_encode = time.perf_counter()
+    if kind == "mp4":
+        _write_mp4(out, paths, fps)
+    elif kind == "gif":
+        _write_gif(out, paths, fps)
+    else:
+        _write_folder(out, paths)
+    t_end = time.perf_counter()
+    return MovieResult(out, len(frames), len(todo), cache, t_encode - t_render, t_end - t_encode)

@@ -1,0 +1,826 @@
+"""A movie's commands file and the :class:`Timeline` that turns it into frames.
+
+The coursework's ``-film`` mode changed the scene between frames by the commands of a text
+file. The file, one command a line (``docs/movies.md`` has the full format and an example)::
+
+    # the coursework's scene: a bubble drifts right while the camera turns
+    render 12                      # 12 frames of the scene as loaded
+    move "пузырь 1" 200 0 0        # objects by name (quoted when they contain spaces)
+    camera orbit 15
+    render 24                      # both changes spread linearly over 24 frames
+
+``render K`` renders K frames; every change written since the previous ``render`` is spread
+linearly over them (frame k of K shows k/K of it; ``render 1`` jumps). The verbs:
+``move NAME dx dy dz``, ``scale NAME k``, ``rotate NAME ax ay az degrees``,
+``set NAME FIELD VALUE...``, ``light N x y z intensity``, ``light add x y z intensity``,
+``light delete N``, ``camera position|look_at x y z``, ``camera orbit degrees``,
+``camera fov degrees``, ``time SECONDS``.
+
+:class:`Timeline` is the same vocabulary as Python methods (a notebook builds one without a
+file); :meth:`Timeline.from_file` and :meth:`Timeline.from_text` call those methods line by line
+and report every problem as :class:`CommandsError`, ``COMMANDS:LINE: what is wrong``.
+:meth:`Timeline.frames` resolves the timeline into one self-contained :class:`Frame` per
+image (the scene as it is then, and the render settings), which any process can render alone.
+
+Interpolation, per change (``t = k/K``): a move translates by ``t * d``; a scale multiplies
+sizes by ``1 + t (k - 1)`` (the radius changes linearly); a rotation turns by ``t * degrees``;
+``set``, ``light N``, ``camera position``/``look_at``/``fov`` move each number linearly from
+its value before the change to the new one; ``camera orbit`` turns by ``t * degrees``; an added
+light fades in (intensity ``t * I``) and a deleted light fades out (``(1 - t) I``, gone at the
+last frame).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import functools
+import hashlib
+import math
+import os
+import shlex
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .coursework_format import _Reader, split_lines
+from .errors import SceneError
+from .limits import MAX_INDEX, MAX_MAGNITUDE
+from .scene import Camera, PointLight, Scene
+from .scene_text import read_scene_text
+
+__all__ = ["Timeline", "Frame", "CommandsError", "MAX_FRAMES", "COMMANDS", "PHONG_FIELDS", "BUBBLE_FIELDS",
+           "frame_key"]
+
+#: The most frames a timeline may hold (a minute at 24 fps is 1440).
+MAX_FRAMES = 1_000_000
+
+#: The verbs of the commands file, with what follows them.
+COMMANDS = {
+    "render": "K",
+    "move": "NAME dx dy dz",
+    "scale": "NAME k",
+    "rotate": "NAME axis_x axis_y axis_z degrees",
+    "set": "NAME FIELD VALUE...",
+    "light": "N x y z intensity | add x y z intensity | delete N",
+    "camera": "position x y z | look_at x y z | orbit degrees | fov degrees",
+    "time": "SECONDS",
+}
+
+# field: (number of values, lowest, highest, lowest excluded); names as the TOML format's
+#: Fields ``set`` changes on a sphere or a mesh (its Phong material).
+PHONG_FIELDS = {
+    "color": (3, 0.0, 1.0, False),
+    "ambient": (1, 0.0, 1.0, False),
+    "diffuse": (1, 0.0, 1.0, False),
+    "specular": (1, 0.0, 1.0, False),
+    "transmission": (1, 0.0, 1.0, False),
+    "shininess": (1, 0.0, MAX_MAGNITUDE, False),
+    "ior": (1, 0.0, MAX_INDEX, True),
+}
+#: Fields ``set`` changes on a bubble: its highlight exponent and its film's profile parameters.
+BUBBLE_FIELDS = {
+    "shininess": (1, 0.0, MAX_MAGNITUDE, False),
+    "thickness_nm": (1, 0.0, MAX_MAGNITUDE, False),
+    "top_nm": (1, 0.0, MAX_MAGNITUDE, False),
+    "bottom_nm": (1, 0.0, MAX_MAGNITUDE, False),
+    "exponent": (1, 0.0, MAX_MAGNITUDE, True),
+    "swirl": (1, 0.0, 1.0, False),
+    "swirl_scale": (1, 0.0, MAX_MAGNITUDE, True),
+}
+#: The film fields each film kind uses.
+_FILM_FIELDS = {
+    "uniform": ("thickness_nm", "swirl", "swirl_scale"),
+    "draining": ("top_nm", "bottom_nm", "exponent", "swirl", "swirl_scale"),
+    "map": ("swirl", "swirl_scale"),
+}
+_ALIASES = {"colour": "color", "thickness": "thickness_nm", "top": "top_nm", "bottom": "bottom_nm"}
+
+
+class CommandsError(SceneError):
+    """A problem in a commands file: ``COMMANDS:LINE: what is wrong`` (a SceneError, so the
+    command line reports it the same way)."""
+
+
+# ------------------------------------------------------------------------------------------
+# frames
+# ------------------------------------------------------------------------------------------
+@dataclass
+class Frame:
+    """One image of a movie, self-contained: render ``scene`` with ``settings`` (the resolved
+    keyword arguments of :func:`tracer.render`).
+
+    ``index`` is the frame's place in the movie (0-based), ``time`` the film time in seconds
+    (the ``time`` commands so far), ``line`` the ``render`` command's line that made it.
+    """
+
+    index: int
+    scene: Scene
+    settings: dict
+    time: float = 0.0
+    line: int | None = None
+
+    def key(self, bits=8) -> str:
+        """The hash that names this frame's image in a cache: of everything that decides its
+        pixels (the scene, the settings, the film time, the PNG bit depth), not of its index."""
+        return frame_key(self, bits)
+
+
+#: Bumped when what a frame's key covers changes meaning (cached images then stop matching).
+KEY_VERSION = 1
+
+
+def _feed(h, obj):
+    """Feed a canonical byte form of *obj* (dataclasses, arrays, numbers, strings, containers)
+    to the hash *h*: equal values give equal bytes, and every float is taken bit for bit."""
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        h.update(b"D" + type(obj).__name__.encode())
+        for f in dataclasses.fields(obj):
+            if isinstance(obj, Scene) and f.name in ("source", "render_defaults"):
+                continue  # where the scene came from does not change a pixel
+            h.update(b"." + f.name.encode())
+            _feed(h, getattr(obj, f.name))
+    elif isinstance(obj, np.ndarray):
+        a = np.ascontiguousarray(obj)
+        h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
+        h.update(a.tobytes())
+    elif isinstance(obj, (bool, np.bool_)):
+        h.update(b"b1" if obj else b"b0")
+    elif isinstance(obj, (int, np.integer)):
+        h.update(b"i" + str(int(obj)).encode() + b";")
+    elif isinstance(obj, (float, np.floating)):
+        h.update(b"f" + float(obj).hex().encode() + b";")
+    elif isinstance(obj, complex):
+        h.update(b"c" + obj.real.hex().encode() + b"," + obj.imag.hex().encode() + b";")
+    elif isinstance(obj, str):
+        data = obj.encode()
+        h.update(b"s" + str(len(data)).encode() + b":" + data)
+    elif obj is None:
+        h.update(b"N")
+    elif isinstance(obj, (list, tuple)):
+        h.update(b"L" + str(len(obj)).encode() + b":")
+        for item in obj:
+            _feed(h, item)
+    elif isinstance(obj, dict):
+        h.update(b"M" + str(len(obj)).encode() + b":")
+        for k in sorted(obj, key=str):
+            _feed(h, str(k))
+            _feed(h, obj[k])
+    else:
+        raise TypeError(f"cannot hash a {type(obj).__name__} in a frame description")
+
+
+@functools.lru_cache(maxsize=1)
+def _package_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("bubbleoptics")
+    except PackageNotFoundError:  # a source tree that is not installed
+        return "unknown"
+
+
+def frame_key(frame: Frame, bits=8) -> str:
+    """The hex SHA-256 of *frame*'s description (see :meth:`Frame.key`), with the package's
+    version, so that another version of the tracer does not reuse this one's images."""
+    h = hashlib.sha256()
+    _feed(h, ("bubbleoptics movie frame", KEY_VERSION, _package_version(), int(bits)))
+    _feed(h, frame.scene)
+    _feed(h, frame.settings)
+    _feed(h, float(frame.time))
+    return h.hexdigest()
+
+
+# ------------------------------------------------------------------------------------------
+# the working state a change edits
+# ------------------------------------------------------------------------------------------
+@dataclass
+class _State:
+    """A scene being edited, its lights' identities (stable across deletions) and the film time.
+
+    Copies share arrays and unchanged objects' fields; every edit replaces what it changes
+    (new tuples, new arrays, new dataclass instances), never mutates them, so a copy never
+    sees another's edits, and a material shared by two objects stays shared only until one of
+    them is edited.
+    """
+
+    scene: Scene
+    light_ids: list = field(default_factory=list)
+    time: float = 0.0
+
+    def copy(self):
+        s = self.scene
+        scene = dataclasses.replace(
+            s,
+            spheres=[dataclasses.replace(o) for o in s.spheres],
+            bubbles=[dataclasses.replace(o) for o in s.bubbles],
+            meshes=[dataclasses.replace(o) for o in s.meshes],
+            lights=[dataclasses.replace(o) for o in s.lights],
+            camera=dataclasses.replace(s.camera),
+            render_defaults={},
+        )
+        return _State(scene, list(self.light_ids), self.time)
+
+    def obj(self, ref):
+        kind, i = ref
+        return getattr(self.scene, kind)[i]
+
+    def put(self, ref, obj):
+        kind, i = ref
+        getattr(self.scene, kind)[i] = obj
+
+    def light_index(self, light_id):
+        return self.light_ids.index(light_id)
+
+
+def _add(a, b, t):
+    """``a + t * b`` for tuples of numbers."""
+    return tuple(float(x) + t * float(y) for x, y in zip(a, b))
+
+
+def _sub(a, b):
+    return tuple(float(x) - float(y) for x, y in zip(a, b))
+
+
+def _rotation(axis, degrees):
+    """The 3x3 matrix of a right-handed turn by *degrees* about the unit vector *axis*
+    (Rodrigues' formula)."""
+    x, y, z = axis
+    a = math.radians(degrees)
+    c, s = math.cos(a), math.sin(a)
+    C = 1.0 - c
+    return np.array([
+        [c + x * x * C, x * y * C - z * s, x * z * C + y * s],
+        [y * x * C + z * s, c + y * y * C, y * z * C - x * s],
+        [z * x * C - y * s, z * y * C + x * s, c + z * z * C],
+    ])
+
+
+def _mesh_centre(vertices):
+    """A mesh's centre: the middle of its bounding box."""
+    return 0.5 * (vertices.min(axis=0) + vertices.max(axis=0))
+
+
+# Each change is a callable change(state, t) applying the fraction t in [0, 1] of itself.
+@dataclass
+class _Move:
+    ref: tuple
+    d: tuple
+
+    def __call__(self, st, t):
+        o = st.obj(self.ref)
+        if self.ref[0] == "meshes":
+            st.put(self.ref, dataclasses.replace(o, vertices=o.vertices + t * np.asarray(self.d)))
+        else:
+            st.put(self.ref, dataclasses.replace(o, center=_add(o.center, self.d, t)))
+
+
+@dataclass
+class _Scale:
+    ref: tuple
+    k: float
+
+    def __call__(self, st, t):
+        f = 1.0 + t * (self.k - 1.0)
+        o = st.obj(self.ref)
+        if self.ref[0] == "meshes":
+            c = _mesh_centre(o.vertices)
+            st.put(self.ref, dataclasses.replace(o, vertices=c + f * (o.vertices - c)))
+        else:
+            st.put(self.ref, dataclasses.replace(o, radius=float(o.radius) * f))
+
+
+@dataclass
+class _Rotate:
+    ref: tuple
+    axis: tuple
+    degrees: float
+
+    def __call__(self, st, t):
+        R = _rotation(self.axis, t * self.degrees)
+        o = st.obj(self.ref)
+        if self.ref[0] == "meshes":
+            c = _mesh_centre(o.vertices)
+            st.put(self.ref, dataclasses.replace(o, vertices=c + (o.vertices - c) @ R.T))
+        elif self.ref[0] == "bubbles":  # the film turns with the bubble (its up direction)
+            up = tuple((R @ np.asarray(o.film.up, float)).tolist())
+            st.put(self.ref, dataclasses.replace(o, film=dataclasses.replace(o.film, up=up)))
+        # a sphere's uniform material looks the same however it is turned
+
+
+@dataclass
+class _Set:
+    ref: tuple
+    name: str  # the field
+    delta: tuple
+
+    def __call__(self, st, t):
+        o = st.obj(self.ref)
+        if self.ref[0] == "bubbles":
+            if self.name == "shininess":
+                st.put(self.ref, dataclasses.replace(o, shininess=o.shininess + t * self.delta[0]))
+            else:
+                value = getattr(o.film, self.name) + t * self.delta[0]
+                st.put(self.ref, dataclasses.replace(o, film=dataclasses.replace(o.film, **{self.name: value})))
+        else:  # a copy of the material: another object sharing it keeps its own
+            old = getattr(o.material, self.name)
+            value = _add(old, self.delta, t) if self.name == "color" else old + t * self.delta[0]
+            st.put(self.ref, dataclasses.replace(o, material=dataclasses.replace(o.material, **{self.name: value})))
+
+
+@dataclass
+class _LightSet:
+    light_id: int
+    d_position: tuple
+    d_intensity: float
+
+    def __call__(self, st, t):
+        i = st.light_index(self.light_id)
+        light = st.scene.lights[i]
+        st.scene.lights[i] = dataclasses.replace(light, position=_add(light.position, self.d_position, t),
+                                                 intensity=light.intensity + t * self.d_intensity)
+
+
+@dataclass
+class _LightAdd:
+    light_id: int
+    position: tuple
+    intensity: float
+
+    def __call__(self, st, t):
+        st.scene.lights.append(PointLight(position=self.position, intensity=t * self.intensity))
+        st.light_ids.append(self.light_id)
+
+
+@dataclass
+class _LightDelete:
+    light_id: int
+
+    def __call__(self, st, t):
+        i = st.light_index(self.light_id)
+        if t >= 1.0:
+            del st.scene.lights[i]
+            del st.light_ids[i]
+        else:
+            light = st.scene.lights[i]
+            st.scene.lights[i] = dataclasses.replace(light, intensity=(1.0 - t) * light.intensity)
+
+
+@dataclass
+class _CameraSet:
+    name: str  # position, look_at or fov_deg
+    delta: tuple
+
+    def __call__(self, st, t):
+        cam = st.scene.camera
+        if self.name == "fov_deg":
+            value = cam.fov_deg + t * self.delta[0]
+        else:
+            value = _add(getattr(cam, self.name), self.delta, t)
+        st.scene.camera = dataclasses.replace(cam, **{self.name: value})
+
+
+@dataclass
+class _CameraOrbit:
+    degrees: float
+
+    def __call__(self, st, t):
+        cam = st.scene.camera
+        up = np.asarray(cam.up, float)
+        R = _rotation(up / np.linalg.norm(up), t * self.degrees)
+        look = np.asarray(cam.look_at, float)
+        position = look + R @ (np.asarray(cam.position, float) - look)
+        st.scene.camera = dataclasses.replace(cam, position=tuple(position.tolist()))
+
+
+@dataclass
+class _Time:
+    seconds: float
+
+    def __call__(self, st, t):
+        st.time += t * self.seconds
+
+
+# ------------------------------------------------------------------------------------------
+# the timeline
+# ------------------------------------------------------------------------------------------
+def _finite(value, what):
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"{what} must be a finite number, got {value!r}")
+    if abs(v) > MAX_MAGNITUDE:
+        raise ValueError(f"{what} {v:g} is outside -{MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g} (tracer.limits)")
+    return v
+
+
+def _vector(values, what):
+    values = tuple(values)
+    if len(values) != 3:
+        raise ValueError(f"{what} needs 3 numbers, got {len(values)}")
+    return tuple(_finite(v, f"{what} ({c})") for v, c in zip(values, "xyz"))
+
+
+def _check_point(p, what):
+    for v, c in zip(p, "xyz"):
+        if not abs(v) <= MAX_MAGNITUDE:
+            raise ValueError(f"{what} ({c}) would be {v:g}, outside -{MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g}")
+
+
+class Timeline:
+    """The frames of a movie, built command by command from a starting scene.
+
+    Each method is one command of the commands file (``docs/movies.md``); changes accumulate
+    until :meth:`render`, which spreads them linearly over its frames. Objects are named as
+    in the scene (``Sphere.name``, ``Bubble.name``, ``Mesh.name``), lights numbered from 1 in
+    the scene's current list. A bad value raises ValueError before anything changes.
+
+    >>> import tracer
+    >>> tl = Timeline(tracer.default_scene())
+    >>> tl.move("old", 0.3, 0.0, 0.0).render(3)
+    Timeline(3 frames)
+    >>> [round(s.bubbles[2].center[0], 2) for s, _ in tl.scenes()]   # 1/3, 2/3, 3/3 of the move
+    [0.4, 0.5, 0.6]
+    """
+
+    def __init__(self, scene: Scene):
+        self._start = _State(scene, list(range(len(scene.lights))))
+        self._state = self._start.copy()  # the scene after every change so far, complete
+        self._next_light_id = len(scene.lights)
+        self._pending = []  # changes since the last render
+        self._pending_line = None
+        self._segments = []  # (start state, changes, frame count, line)
+        self._n_frames = 0
+        self._line = None  # the line being read (from_text), for frames' provenance
+        self._names = {}
+        for kind in ("spheres", "bubbles", "meshes"):
+            for i, o in enumerate(getattr(scene, kind)):
+                self._names.setdefault(o.name, []).append((kind, i))
+
+    def __repr__(self):
+        return f"Timeline({self._n_frames} frames)"
+
+    def __len__(self):
+        return self._n_frames
+
+    # -- reading a file -----------------------------------------------------------------
+    @classmethod
+    def from_file(cls, scene: Scene, path) -> "Timeline":
+        """The timeline of the commands file *path* (UTF-8) applied to *scene*; CommandsError."""
+        path = os.fspath(path)
+        try:
+            text = read_scene_text(path)
+        except SceneError as err:
+            raise CommandsError(err.path, err.line, err.message.replace("scene file", "commands file")) from None
+        return cls.from_text(scene, text, path)
+
+    @classmethod
+    def from_text(cls, scene: Scene, text: str, path="<commands>") -> "Timeline":
+        """The timeline of commands-file *text*; every problem is a :class:`CommandsError`
+        ``PATH:LINE: what is wrong``, and so is a file that renders nothing or leaves changes
+        after its last ``render``."""
+        tl = cls(scene)
+        reader = _Reader(path)
+        for lineno, line in enumerate(split_lines(text[1:] if text.startswith("\ufeff") else text), start=1):
+            try:
+                tokens = _tokens(line)
+            except ValueError as err:
+                raise CommandsError(path, lineno, str(err)) from None
+            if not tokens:
+                continue
+            tl._line = lineno
+            try:
+                _dispatch(tl, reader, lineno, tokens)
+            except SceneError as err:  # a number, from the scene files' reader
+                raise CommandsError(path, err.line, err.message) from None
+            except ValueError as err:
+                raise CommandsError(path, lineno, f"{tokens[0]}: {err}") from None
+        tl._line = None
+        if tl._pending:
+            raise CommandsError(path, tl._pending_line,
+                                "this change comes after the last 'render' and would never be shown: "
+                                "add a 'render K' after it")
+        if not tl._n_frames:
+            raise CommandsError(path, None, "no frames: the file has no 'render K' command")
+        return tl
+
+    # -- objects --------------------------------------------------------------------------
+    def _ref(self, name):
+        refs = self._names.get(name)
+        if not refs:
+            known = ", ".join(repr(n) for n in self._names) or "none"
+            close = difflib.get_close_matches(name, list(self._names), n=1)
+            hint = f"; did you mean '{close[0]}'?" if close else ""
+            raise ValueError(f"no object named '{name}'{hint} (the scene's objects: {known})")
+        if len(refs) > 1:
+            raise ValueError(f"{len(refs)} objects are named '{name}': a commands file cannot tell them apart")
+        return refs[0]
+
+    def _change(self, change):
+        """Apply *change* to the complete state (checking the result), then keep it pending."""
+        trial = self._state.copy()
+        change(trial, 1.0)
+        _check_state(trial)
+        self._state = trial
+        if not self._pending:
+            self._pending_line = self._line
+        self._pending.append(change)
+        return self
+
+    def move(self, name, dx, dy, dz):
+        """Translate object *name* by (dx, dy, dz) scene units."""
+        ref = self._ref(name)
+        return self._change(_Move(ref, _vector((dx, dy, dz), "the move")))
+
+    def scale(self, name, k):
+        """Scale object *name* uniformly by *k* > 0 about its centre (a mesh's: the middle of
+        its bounding box)."""
+        ref = self._ref(name)
+        k = _finite(k, "the factor")
+        if not k > 0:
+            raise ValueError(f"the factor must be > 0, got {k:g}")
+        return self._change(_Scale(ref, k))
+
+    def rotate(self, name, axis_x, axis_y, axis_z, degrees):
+        """Turn object *name* by *degrees* (right-handed) about the axis through its centre.
+        A mesh's vertices turn; a bubble's film turns (its ``up``: the draining profile; the
+        swirl's waves are fixed in world directions by the renderer and do not turn); a sphere
+        looks the same."""
+        ref = self._ref(name)
+        axis = np.asarray(_vector((axis_x, axis_y, axis_z), "the axis"))
+        m = np.abs(axis).max()
+        if not m > 0:
+            raise ValueError("the axis must not be the zero vector")
+        axis = axis / m
+        axis = tuple((axis / np.linalg.norm(axis)).tolist())
+        return self._change(_Rotate(ref, axis, _finite(degrees, "the angle")))
+
+    def set(self, name, field_name, *values):
+        """Set an optical parameter of object *name* (:data:`PHONG_FIELDS` for spheres and
+        meshes, :data:`BUBBLE_FIELDS` for bubbles, as the TOML format names them; ``colour``
+        and ``thickness`` are accepted for ``color`` and ``thickness_nm``)."""
+        ref = self._ref(name)
+        o = self._state.obj(ref)
+        f = _ALIASES.get(field_name, field_name)
+        if ref[0] == "bubbles":
+            allowed = ("shininess",) + _FILM_FIELDS[o.film.kind]
+            table = BUBBLE_FIELDS
+            what = f"bubble '{name}' ({o.film.kind} film)"
+        else:
+            allowed, table = tuple(PHONG_FIELDS), PHONG_FIELDS
+            what = f"{ref[0][:-1]} '{name}'"
+        if f not in allowed:
+            raise ValueError(f"{what} has no field '{field_name}' (fields: {', '.join(allowed)})")
+        count, lo, hi, lo_open = table[f]
+        if len(values) != count:
+            raise ValueError(f"{f} takes {count} number{'s' if count > 1 else ''}, got {len(values)}")
+        new = tuple(_finite(v, f) for v in values)
+        for v in new:
+            if (v <= lo if lo_open else v < lo) or v > hi:
+                rel = ">" if lo_open else ">="
+                raise ValueError(f"{f} must be {rel} {lo:g} and <= {hi:g}, got {v:g}")
+        if ref[0] == "bubbles":
+            old = (o.shininess,) if f == "shininess" else (getattr(o.film, f),)
+        else:
+            old = getattr(o.material, f)
+            old = tuple(old) if f == "color" else (old,)
+        return self._change(_Set(ref, f, _sub(new, old)))
+
+    # -- lights ---------------------------------------------------------------------------
+    def _light_id(self, number):
+        n = len(self._state.light_ids)
+        if isinstance(number, bool) or not isinstance(number, (int, np.integer)) or not 1 <= number <= n:
+            have = f"lights 1 to {n}" if n > 1 else ("light 1" if n == 1 else "no lights")
+            raise ValueError(f"no light {number}: the scene has {have}")
+        return self._state.light_ids[number - 1]
+
+    @staticmethod
+    def _intensity(value):
+        v = _finite(value, "the intensity")
+        if v < 0:
+            raise ValueError(f"the intensity must be >= 0, got {v:g}")
+        return v
+
+    def light(self, number, x, y, z, intensity):
+        """Move light *number* (1-based) to (x, y, z) and give it *intensity*."""
+        lid = self._light_id(number)
+        light = self._state.scene.lights[self._state.light_index(lid)]
+        position = _vector((x, y, z), "the position")
+        return self._change(_LightSet(lid, _sub(position, light.position),
+                                      self._intensity(intensity) - light.intensity))
+
+    def light_add(self, x, y, z, intensity):
+        """Add a white point light (it fades in over the next ``render``); it is numbered
+        after the scene's current lights."""
+        position = _vector((x, y, z), "the position")
+        intensity = self._intensity(intensity)
+        self._next_light_id += 1
+        return self._change(_LightAdd(self._next_light_id, position, intensity))
+
+    def light_delete(self, number):
+        """Delete light *number* (it fades out over the next ``render``); later lights'
+        numbers go down by one."""
+        return self._change(_LightDelete(self._light_id(number)))
+
+    # -- camera ---------------------------------------------------------------------------
+    def camera_position(self, x, y, z):
+        """Move the camera to (x, y, z) (it keeps looking at its look-at point)."""
+        p = _vector((x, y, z), "the position")
+        return self._change(_CameraSet("position", _sub(p, self._state.scene.camera.position)))
+
+    def camera_look_at(self, x, y, z):
+        """Point the camera at (x, y, z)."""
+        p = _vector((x, y, z), "the look-at point")
+        return self._change(_CameraSet("look_at", _sub(p, self._state.scene.camera.look_at)))
+
+    def camera_orbit(self, degrees):
+        """Turn the camera by *degrees* about its look-at point, around its up axis."""
+        return self._change(_CameraOrbit(_finite(degrees, "the angle")))
+
+    def camera_fov(self, degrees):
+        """Set the camera's vertical field of view (0 < degrees < 180)."""
+        v = _finite(degrees, "the field of view")
+        if not 0 < v < 180:
+            raise ValueError(f"the field of view must be > 0 and < 180 degrees, got {v:g}")
+        return self._change(_CameraSet("fov_deg", (v - self._state.scene.camera.fov_deg,)))
+
+    # -- time and frames ------------------------------------------------------------------
+    def time(self, seconds):
+        """Advance the film's time by *seconds* >= 0 over the next ``render`` (recorded in each
+        frame's :attr:`Frame.time`; evolving films are a later issue)."""
+        v = _finite(seconds, "the time")
+        if v < 0:
+            raise ValueError(f"the time must be >= 0 seconds, got {v:g}")
+        return self._change(_Time(v))
+
+    def render(self, frames):
+        """Render *frames* (an integer >= 1) frames, spreading every change since the last
+        ``render`` linearly over them: frame k of K shows k/K of it."""
+        if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 1:
+            raise ValueError(f"the frame count must be an integer >= 1, got {frames!r}")
+        if self._n_frames + frames > MAX_FRAMES:
+            raise ValueError(f"a movie has at most {MAX_FRAMES:,} frames; this one would have "
+                             f"{self._n_frames + frames:,}")
+        start = self._segment_start()
+        changes = tuple(self._pending)
+        for k in (1, frames):  # the camera of every frame must have a direction: check the ends...
+            _check_camera(_apply(start, changes, k / frames).scene.camera, k)
+        if any(isinstance(c, (_CameraSet, _CameraOrbit)) for c in changes):
+            for k in range(2, frames):  # ...and, when it moves, those between
+                _check_camera(_apply(start, changes, k / frames).scene.camera, k)
+        self._segments.append((start, changes, int(frames), self._line))
+        self._n_frames += int(frames)
+        self._pending = []
+        self._pending_line = None
+        return self
+
+    def _segment_start(self):
+        if not self._segments:
+            return self._start
+        start, changes, _, _ = self._segments[-1]
+        return _apply(start, changes, 1.0)
+
+    @property
+    def pending(self) -> int:
+        """The number of changes made since the last :meth:`render` (not yet in any frame)."""
+        return len(self._pending)
+
+    def scenes(self):
+        """Yield ``(scene, time)`` for every frame, in order."""
+        for start, changes, count, _ in self._segments:
+            for k in range(1, count + 1):
+                st = _apply(start, changes, k / count)
+                yield st.scene, st.time
+
+    def frames(self, settings=None) -> list[Frame]:
+        """One :class:`Frame` per image, each with a copy of *settings* (resolved render
+        settings, e.g. from :func:`tracer.render.resolve_settings`; None: the scene's
+        defaults). ValueError if changes were made after the last :meth:`render`."""
+        if self._pending:
+            raise ValueError(f"{len(self._pending)} change(s) after the last render would never be shown: "
+                             "call render(K) after them")
+        if settings is None:
+            from .render import resolve_settings
+
+            settings = resolve_settings(self._start.scene)
+        out = []
+        for start, changes, count, line in self._segments:
+            for k in range(1, count + 1):
+                st = _apply(start, changes, k / count)
+                out.append(Frame(len(out), st.scene, dict(settings), st.time, line))
+        return out
+
+
+def _apply(start: _State, changes, t) -> _State:
+    st = start.copy()
+    for change in changes:
+        change(st, t)
+    return st
+
+
+def _check_state(st: _State):
+    """The complete state after a change: every position and size within the scene limits."""
+    s = st.scene
+    for o in s.spheres + s.bubbles:
+        _check_point(o.center, f"{o.name}'s centre")
+        if not 0 < o.radius <= MAX_MAGNITUDE:
+            raise ValueError(f"{o.name}'s radius would be {o.radius:g}, outside (0, {MAX_MAGNITUDE:g}]")
+    for m in s.meshes:
+        if not np.all(np.abs(m.vertices) <= MAX_MAGNITUDE):
+            raise ValueError(f"{m.name}'s vertices would leave -{MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g}")
+    for i, light in enumerate(s.lights):
+        _check_point(light.position, f"light {i + 1}'s position")
+    cam = s.camera
+    _check_point(cam.position, "the camera's position")
+    _check_point(cam.look_at, "the camera's look-at point")
+
+
+def _check_camera(cam: Camera, k):
+    try:
+        cam.basis()
+    except ValueError as err:
+        raise ValueError(f"frame {k} of this render: {err}") from None
+
+
+# ------------------------------------------------------------------------------------------
+# the text format
+# ------------------------------------------------------------------------------------------
+def _tokens(line):
+    """The fields of one line: blank-separated, double or single quotes around a name with
+    spaces, ``#`` to the end of the line a comment (outside quotes)."""
+    lexer = shlex.shlex(line, posix=True)
+    lexer.whitespace_split = True
+    lexer.commenters = "#"
+    try:
+        return list(lexer)
+    except ValueError as err:  # shlex: "No closing quotation", "No escaped character"
+        raise ValueError(f"{str(err).lower()} in '{line.strip()[:60]}'") from None
+
+
+def _dispatch(tl: Timeline, r: _Reader, line, tokens):
+    verb, args = tokens[0], tokens[1:]
+
+    def numbers(fields, names, what):
+        return r.numbers(line, fields, names, f"{verb}: {what}")
+
+    def arity(n, usage):
+        if len(args) != n:
+            raise ValueError(f"expected '{verb} {usage}', found {len(args)} field{'s' if len(args) != 1 else ''} "
+                             f"after '{verb}'")
+
+    if verb == "render":
+        arity(1, COMMANDS["render"])
+        k = r.integer(line, args[0], "render: the frame count")
+        tl.render(k)
+    elif verb in ("move", "scale", "rotate"):
+        names = {"move": ("dx", "dy", "dz"), "scale": ("k",), "rotate": ("axis_x", "axis_y", "axis_z", "degrees")}
+        arity(1 + len(names[verb]), COMMANDS[verb])
+        name = args[0]
+        tl._ref(name)  # an unknown name before its numbers
+        values = numbers(args[1:], names[verb], f"'{name}'")
+        getattr(tl, verb)(name, *values)
+    elif verb == "set":
+        if len(args) < 3:
+            raise ValueError(f"expected 'set {COMMANDS['set']}', found {len(args)} field(s) after 'set'")
+        name, f = args[0], args[1]
+        tl._ref(name)
+        values = [r.number(line, tok, f"set: '{name}' {f}") for tok in args[2:]]
+        tl.set(name, f, *values)
+    elif verb == "light":
+        if not args:
+            raise ValueError(f"expected 'light {COMMANDS['light']}'")
+        if args[0] == "add":
+            args = args[1:]
+            verb = "light add"
+            arity(4, "x y z intensity")
+            tl.light_add(*numbers(args, ("x", "y", "z", "intensity"), "the new light"))
+        elif args[0] == "delete":
+            args = args[1:]
+            verb = "light delete"
+            arity(1, "N")
+            tl.light_delete(r.integer(line, args[0], "light delete: the light's number"))
+        else:
+            n = r.integer(line, args[0], "light: the light's number (or 'add', 'delete')")
+            args = args[1:]
+            verb = f"light {n}"
+            arity(4, "x y z intensity")
+            tl.light(n, *numbers(args, ("x", "y", "z", "intensity"), "the light"))
+    elif verb == "camera":
+        what = args[0] if args else ""
+        forms = {"position": ("x", "y", "z"), "look_at": ("x", "y", "z"), "orbit": ("degrees",),
+                 "fov": ("degrees",)}
+        if what not in forms:
+            raise ValueError(f"expected 'camera {COMMANDS['camera']}', found "
+                             + (f"'camera {what}'" if what else "nothing after 'camera'"))
+        args = args[1:]
+        verb = f"camera {what}"
+        arity(len(forms[what]), " ".join(forms[what]))
+        values = numbers(args, forms[what], what)
+        {"position": tl.camera_position, "look_at": tl.camera_look_at, "orbit": tl.camera_orbit,
+         "fov": tl.camera_fov}[what](*values)
+    elif verb == "time":
+        arity(1, COMMANDS["time"])
+        tl.time(*numbers(args, ("seconds",), "the seconds"))
+    else:
+        close = difflib.get_close_matches(verb, list(COMMANDS), n=1)
+        hint = f"did you mean '{close[0]}'? " if close else ""
+        raise ValueError(f"unknown command; {hint}(commands: {', '.join(COMMANDS)})")
