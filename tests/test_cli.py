@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 import tracer
-from tracer.cli import main
+from cli_helpers import run, assert_one_line  # tests/cli_helpers.py
 
 pytestmark = pytest.mark.api
 
@@ -40,20 +40,6 @@ TINY = ["--width", "8", "--height", "6", "--depth", "2", "--quiet"]
 # ------------------------------------------------------------------------------------------
 # helpers
 # ------------------------------------------------------------------------------------------
-def run(argv, capsys):
-    """``tracer ARGV`` in-process: (exit status, stdout, stderr).  argparse exits via SystemExit."""
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exc:
-        status = exc.code
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def assert_one_line(err):
-    """Exactly one line on stderr and no Python traceback."""
-    assert err.endswith("\n") and err.count("\n") == 1, repr(err)
-    assert "Traceback" not in err and "File \"" not in err, err
 
 
 def srgb_to_linear(code, top):

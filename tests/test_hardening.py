@@ -20,6 +20,7 @@ from tracer import Scene, load_scene, render
 from tracer.cli import main
 from tracer.limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, LimitError, check_memory, check_settings
 
+from cli_helpers import run  # tests/cli_helpers.py
 from fuzz_inputs import check_case, make_cases
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -29,11 +30,7 @@ pytestmark = pytest.mark.api
 
 def _run(args, capsys):
     """(status, stderr lines) of the CLI run in this process."""
-    try:
-        status = main(args)
-    except SystemExit as exc:
-        status = exc.code
-    err = capsys.readouterr().err
+    status, _, err = run(args, capsys)
     return status, [line for line in err.splitlines() if line]
 
 

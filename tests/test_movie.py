@@ -7,7 +7,6 @@ numba's cache; one module-scoped LocalCluster of two workers serves the distribu
 
 import dataclasses
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -15,10 +14,10 @@ import pytest
 
 import tracer
 import tracer.movie as movie_module
-from tracer.cli import main
 from tracer.movie import check_movie_output, movie_cache_folder, render_frame_png, render_movie
-from tracer.movie_commands import CommandsError, Frame, Timeline
-from tracer.scene import Material, Mesh, PointLight, Scene, Sphere
+from tracer.movie_commands import CommandsError, Timeline
+from tracer.scene import Material, Mesh, Scene, Sphere
+from cli_helpers import run, assert_one_line  # tests/cli_helpers.py
 
 ROOT = Path(__file__).resolve().parent.parent
 THREE = ROOT / "data" / "scenes" / "coursework_three_bubbles.txt"
@@ -27,18 +26,6 @@ TINY = ["--width", "8", "--height", "6", "--depth", "2", "--quiet"]
 TINY_SETTINGS = dict(width=8, height=6, depth=2)
 
 
-def run(argv, capsys):
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exc:
-        status = exc.code
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def assert_one_line(err):
-    assert err.endswith("\n") and err.count("\n") == 1, repr(err)
-    assert "Traceback" not in err, err
 
 
 def three():

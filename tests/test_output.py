@@ -21,8 +21,8 @@ import pytest
 
 import tracer
 from tracer import output
-from tracer.cli import main
 from tracer.output import check_output_path, display_codes, display_image, save_image
+from cli_helpers import run  # tests/cli_helpers.py
 
 pytestmark = pytest.mark.api
 
@@ -484,14 +484,6 @@ def test_spectral_npz_round_trip(tmp_path):
 # ------------------------------------------------------------------------------------------
 # Command line and TOML
 # ------------------------------------------------------------------------------------------
-def run(argv, capsys):
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exc:
-        status = exc.code
-    out, err = capsys.readouterr()
-    return status, out, err
-
 
 TINY = ["--width", "12", "--height", "9", "--depth", "3", "--quiet"]
 
