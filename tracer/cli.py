@@ -207,6 +207,22 @@ def _load_scene(path):
     return scene
 
 
+def _scene_from_args(args, scene_path):
+    """The scene file *scene_path* (the built-in scene when None), its environment replaced by
+    ``--background`` when given."""
+    if scene_path is None:
+        from .builtin import default_scene
+
+        scene = default_scene()
+    else:
+        scene = _load_scene(scene_path)
+    if args.background is not None:
+        from .scene import Environment
+
+        scene.environment = Environment(kind="constant", color=args.background)
+    return scene
+
+
 def _resolve_settings(args, scene, spectral_image=False):
     """An option given on the command line, else the scene's [render] table (TOML), else
     DEFAULTS; checked against tracer.limits (errors name the option) and for memory."""
@@ -256,16 +272,7 @@ def _main(argv=None):
         out = _check_output(out, bits=args.bits, exposure=args.exposure, view=args.view)
         spectral_out = _check_output(args.spectral_out, suffixes=(".npz",)) if args.spectral_out else None
         spectral_image = spectral_out is not None or out.suffix.lower() == ".npz"
-        if scene_path is None:
-            from .builtin import default_scene
-
-            scene = default_scene()
-        else:
-            scene = _load_scene(scene_path)
-        if args.background is not None:
-            from .scene import Environment
-
-            scene.environment = Environment(kind="constant", color=args.background)
+        scene = _scene_from_args(args, scene_path)
         s = _resolve_settings(args, scene, spectral_image)  # every limit and the memory estimate, first
         image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None,
                                          spectral_image=spectral_image)
@@ -350,16 +357,7 @@ def _movie(args):
         if unsupported:  # frames are saved as clipped 8-bit (or 16-bit) sRGB PNGs, exposure 0
             return _fail(f"tracer {args.command}: error: {', '.join(unsupported)} not supported for movies yet")
         check_movie_output(out)
-        if scene_path is None:
-            from .builtin import default_scene
-
-            scene = default_scene()
-        else:
-            scene = _load_scene(scene_path)
-        if args.background is not None:
-            from .scene import Environment
-
-            scene.environment = Environment(kind="constant", color=args.background)
+        scene = _scene_from_args(args, scene_path)
         timeline = Timeline.from_file(scene, commands)
         s = _resolve_settings(args, scene)
         render_movie(scene, timeline, out, fps=DEFAULT_FPS if args.fps is None else args.fps, bits=8 if args.bits is None else args.bits,

@@ -96,21 +96,25 @@ def face_normals(vertices, faces):
     return out, zero
 
 
+@njit(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
+def _face_cross(v, f, i):
+    """(v1 - v0) x (v2 - v0) of face *i*: twice its area times its unit normal (file winding)."""
+    a = f[i, 0]
+    b = f[i, 1]
+    c = f[i, 2]
+    e1x = v[b, 0] - v[a, 0]
+    e1y = v[b, 1] - v[a, 1]
+    e1z = v[b, 2] - v[a, 2]
+    e2x = v[c, 0] - v[a, 0]
+    e2y = v[c, 1] - v[a, 1]
+    e2z = v[c, 2] - v[a, 2]
+    return e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+
+
 @njit(**_JIT)
 def _face_normals_nb(v, f, out, zero):
     for i in range(f.shape[0]):
-        a = f[i, 0]
-        b = f[i, 1]
-        c = f[i, 2]
-        e1x = v[b, 0] - v[a, 0]
-        e1y = v[b, 1] - v[a, 1]
-        e1z = v[b, 2] - v[a, 2]
-        e2x = v[c, 0] - v[a, 0]
-        e2y = v[c, 1] - v[a, 1]
-        e2z = v[c, 2] - v[a, 2]
-        nx = e1y * e2z - e1z * e2y
-        ny = e1z * e2x - e1x * e2z
-        nz = e1x * e2y - e1y * e2x
+        nx, ny, nz = _face_cross(v, f, i)
         length = math.sqrt(nx * nx + ny * ny + nz * nz)
         zero[i] = not (length > 0.0)
         if zero[i]:
@@ -215,18 +219,7 @@ def _largest_face_nb(v, f):
     best = -1.0
     big = 0
     for i in range(f.shape[0]):
-        a = f[i, 0]
-        b = f[i, 1]
-        c = f[i, 2]
-        e1x = v[b, 0] - v[a, 0]
-        e1y = v[b, 1] - v[a, 1]
-        e1z = v[b, 2] - v[a, 2]
-        e2x = v[c, 0] - v[a, 0]
-        e2y = v[c, 1] - v[a, 1]
-        e2z = v[c, 2] - v[a, 2]
-        nx = e1y * e2z - e1z * e2y
-        ny = e1z * e2x - e1x * e2z
-        nz = e1x * e2y - e1y * e2x
+        nx, ny, nz = _face_cross(v, f, i)
         a2 = nx * nx + ny * ny + nz * nz
         if a2 > best:
             best = a2
