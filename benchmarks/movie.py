@@ -9,7 +9,7 @@ from an empty frame cache (a new temporary folder), so every frame is rendered.
 
 * ``serial``: :func:`tracer.render_movie` in this process (numba's threads: all cores);
 * ``dask``: the same on a running :class:`distributed.LocalCluster` of 2 one-thread workers
-  (:func:`tracer.movie.local_cluster`), started once before the repeats (its start-up and the
+  (:func:`tracer.cluster.local_cluster`), started once before the repeats (its start-up and the
   workers' first frame, which loads the kernels from numba's cache, are timed on their own).
   Dask's task stream gives each frame's compute time on its worker; the overhead a frame is
   ``(wall time x workers - sum of compute times) / frames``: scheduling, transfer of the
@@ -78,7 +78,7 @@ def main(argv=None):
     import tracer
     from distributed import Client
 
-    from tracer.movie import local_cluster
+    from tracer.cluster import local_cluster
 
     args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 3, 1, argv, size=480,
                                                     quick_size=96)

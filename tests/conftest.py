@@ -37,3 +37,17 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(scope="session")
+def client():
+    """A Dask LocalCluster of two one-thread workers (tracer.cluster.local_cluster), shared by
+    the tests of one pytest process (test_movie.py, test_cluster.py)."""
+    distributed = pytest.importorskip("distributed")
+    from tracer.cluster import local_cluster
+
+    with local_cluster(2) as cluster, distributed.Client(cluster) as c:
+        yield c

@@ -6,6 +6,7 @@ numba's cache; one module-scoped LocalCluster of two workers serves the distribu
 """
 
 import dataclasses
+import importlib.util
 import math
 from pathlib import Path
 
@@ -14,7 +15,9 @@ import pytest
 
 import tracer
 import tracer.movie as movie_module
-from tracer.movie import check_movie_output, movie_cache_folder, render_frame_png, render_movie
+import tracer.cluster as cluster_module
+from tracer.movie import check_movie_output, movie_cache_folder, render_frame_files, render_movie
+from tracer.render import resolve_settings
 from tracer.movie_commands import CommandsError, Timeline
 from tracer.scene import Material, Mesh, Scene, Sphere
 from cli_helpers import run, assert_one_line  # tests/cli_helpers.py
@@ -39,7 +42,7 @@ def pngs(folder):
 
 
 class Counter:
-    """Wraps render_frame_png, counting calls (and optionally interrupting one)."""
+    """Wraps render_frame_files, counting calls (and optionally interrupting one)."""
 
     def __init__(self, interrupt_at=None):
         self.calls = 0
@@ -49,7 +52,7 @@ class Counter:
         self.calls += 1
         if self.calls == self.interrupt_at:
             raise KeyboardInterrupt
-        return render_frame_png(frame, bits)
+        return render_frame_files(frame, bits)
 
 
 # ------------------------------------------------------------------------------------------
@@ -271,17 +274,23 @@ def drift(tmp_path):
     return path
 
 
+#: Display options of tracer image that movies apply to every frame (ACES when OpenColorIO is there).
+DISPLAY = ["--exposure", "1.5", "--view", "aces"] if importlib.util.find_spec("PyOpenColorIO") else ["--exposure", "1.5"]
+
+
 @pytest.mark.reference
-@pytest.mark.parametrize("scene_file,commands", [(THREE, DRIFT), (None, ORBIT)], ids=["coursework", "built-in"])
-def test_a_frame_equals_tracer_image_of_the_scene_it_describes(tmp_path, capsys, scene_file, commands):
+@pytest.mark.parametrize("scene_file,commands,display", [(THREE, DRIFT, []), (None, ORBIT, []), (None, ORBIT, DISPLAY)],
+                         ids=["coursework", "built-in", "exposure-and-view"])
+def test_a_frame_equals_tracer_image_of_the_scene_it_describes(tmp_path, capsys, scene_file, commands, display):
     """Each frame of a folder movie against ``tracer image`` of that frame's scene, written as
-    TOML (the scene writer round-trips bit for bit): within one 8-bit step."""
+    TOML (the scene writer round-trips bit for bit), with the same display options: within
+    one 8-bit step."""
     import imageio.v3 as iio
 
     drift = tmp_path / "commands.txt"
     drift.write_text(commands, encoding="utf-8")
     out = tmp_path / "frames"
-    status, _, err = run(["film", *([scene_file] if scene_file else []), out, drift, *TINY], capsys)
+    status, _, err = run(["film", *([scene_file] if scene_file else []), out, drift, *TINY, *display], capsys)
     assert status == 0, err
     frames = pngs(out)
     assert [p.name for p in sorted(out.iterdir())] == ["0000.png", "0001.png", "0002.png", "0003.png"]
@@ -290,18 +299,79 @@ def test_a_frame_equals_tracer_image_of_the_scene_it_describes(tmp_path, capsys,
         toml = tmp_path / f"frame{i}.toml"
         tracer.io.save_toml_scene(scene, toml)
         png = tmp_path / f"frame{i}.png"
-        assert run(["image", toml, png, *TINY], capsys)[0] == 0
+        assert run(["image", toml, png, *TINY, *display], capsys)[0] == 0
         single = iio.imread(png)
         assert np.abs(frames[i].astype(int) - single.astype(int)).max() <= 1
     if scene_file is None:
         assert np.any(frames[0] != frames[3])  # the camera did move
+    if display:  # and the options did something: brighter than the movie at exposure 0
+        plain = tmp_path / "plain"
+        assert run(["film", plain, drift, *TINY], capsys)[0] == 0
+        assert frames[0].astype(int).sum() > pngs(plain)[0].astype(int).sum()
+
+
+@pytest.mark.reference
+def test_spectral_out_keeps_each_frames_spectral_image_as_tracer_image_does(tmp_path, capsys, drift):
+    """``--spectral-out FOLDER``: FOLDER/NNNN.npz per frame, equal to ``tracer image
+    --spectral-out`` of that frame's scene (the coursework's scene is RGB-only without it:
+    the option forces spectral transport, as for an image)."""
+    out, spectra = tmp_path / "frames", tmp_path / "spectra"
+    status, _, err = run(["movie", THREE, out, drift, *TINY, "--spectral-out", spectra], capsys)
+    assert status == 0, err
+    assert [p.name for p in sorted(spectra.iterdir())] == ["0000.npz", "0001.npz", "0002.npz", "0003.npz"]
+    tl = Timeline.from_file(three(), drift)
+    for i, (scene, _) in enumerate(tl.scenes()):
+        if i not in (0, 3):
+            continue
+        toml = tmp_path / f"frame{i}.toml"
+        tracer.io.save_toml_scene(scene, toml)
+        single = tmp_path / f"frame{i}.npz"
+        assert run(["image", toml, tmp_path / f"frame{i}.png", *TINY, "--spectral-out", single], capsys)[0] == 0
+        mine, theirs = tracer.load_spectral(spectra / f"{i:04d}.npz"), tracer.load_spectral(single)
+        assert np.array_equal(mine.radiance, theirs.radiance) and np.array_equal(mine.wavelengths_nm,
+                                                                                 theirs.wavelengths_nm)
+    # a rerun finds every frame (and its spectrum) in the cache
+    result = render_movie(three(), drift, out, **TINY_SETTINGS, spectral_out=spectra, progress=False)
+    assert result.rendered == 0
+    # without --spectral-out the frames are other frames (RGB transport): rendered anew
+    assert render_movie(three(), drift, out, **TINY_SETTINGS, progress=False).rendered == 4
+
+
+@pytest.mark.api
+def test_display_settings_and_spectral_flag_are_in_the_frame_key():
+    tl = Timeline(tracer.default_scene()).render(1)
+    settings = resolve_settings(tracer.default_scene(), width=8, height=8)
+    base = tl.frames(settings)[0].key()
+    assert tl.frames(settings, {"exposure": 0.0, "view": "clip"})[0].key() == base
+    assert tl.frames(settings, {"exposure": 0.5, "view": "clip"})[0].key() != base
+    assert tl.frames(settings, {"exposure": 0.0, "view": "aces"})[0].key() != base
+    assert tl.frames(settings, spectral=True)[0].key() != base
+
+
+@pytest.mark.api
+def test_a_scenes_render_table_exposure_applies_to_its_movie(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    tracer.io.save_toml_scene(tracer.default_scene(), scene)
+    text = scene.read_text()
+    scene.write_text(text.replace("[render]", "[render]\nexposure = 2.0") if "[render]" in text
+                     else text + "\n[render]\nexposure = 2.0\n")
+    commands = tmp_path / "c.txt"
+    commands.write_text("render 1\n")
+    assert run(["movie", scene, tmp_path / "bright", commands, *TINY], capsys)[0] == 0
+    assert run(["movie", scene, tmp_path / "plain", commands, *TINY, "--exposure", "0"], capsys)[0] == 0
+    assert run(["image", scene, tmp_path / "one.png", *TINY], capsys)[0] == 0
+    import imageio.v3 as iio
+
+    bright, plain = pngs(tmp_path / "bright")[0], pngs(tmp_path / "plain")[0]
+    assert np.abs(bright.astype(int) - iio.imread(tmp_path / "one.png").astype(int)).max() <= 1
+    assert bright.astype(int).sum() > plain.astype(int).sum()
 
 
 @pytest.mark.api
 def test_rerun_renders_only_the_missing_frames(tmp_path, capsys, drift, monkeypatch):
     out = tmp_path / "m.gif"
     counter = Counter()
-    monkeypatch.setattr(movie_module, "render_frame_png", counter)
+    monkeypatch.setattr(movie_module, "render_frame_files", counter)
     result = render_movie(three(), drift, out, **TINY_SETTINGS, progress=False)
     assert counter.calls == result.rendered == 4 and result.frames == 4
     cache = movie_cache_folder(out)
@@ -322,7 +392,7 @@ def test_rerun_renders_only_the_missing_frames(tmp_path, capsys, drift, monkeypa
 @pytest.mark.api
 def test_ctrl_c_exits_130_writes_no_movie_and_keeps_the_frames_done(tmp_path, capsys, drift, monkeypatch):
     out = tmp_path / "m.mp4"
-    monkeypatch.setattr(movie_module, "render_frame_png", Counter(interrupt_at=3))
+    monkeypatch.setattr(movie_module, "render_frame_files", Counter(interrupt_at=3))
     status, _, err = run(["movie", THREE, out, drift, *TINY], capsys)
     assert status == 130 and err == "tracer: interrupted\n"
     assert not out.exists()
@@ -330,7 +400,7 @@ def test_ctrl_c_exits_130_writes_no_movie_and_keeps_the_frames_done(tmp_path, ca
     assert len(list(cache.glob("*.png"))) == 2
     assert not [p for p in tmp_path.rglob("*") if p.name.startswith(".")]  # no temporary file left
     counter = Counter()
-    monkeypatch.setattr(movie_module, "render_frame_png", counter)
+    monkeypatch.setattr(movie_module, "render_frame_files", counter)
     assert run(["movie", THREE, out, drift, *TINY], capsys)[0] == 0
     assert counter.calls == 2 and out.is_file()
 
@@ -404,6 +474,16 @@ def _bad_movie_cases(tmp):
     yield "workers and scheduler", ["movie", THREE, tmp / "out" / "m", good, "--workers", "2", "--scheduler",
                                     "tcp://127.0.0.1:1"], "not allowed with argument"
     yield "too many paths", ["movie", THREE, tmp / "out" / "m", good, good, *TINY], "expected [SCENE] OUT COMMANDS"
+    yield "bad exposure", ["movie", THREE, tmp / "out" / "m", good, *TINY, "--exposure", "65"], "--exposure"
+    yield "bad view", ["movie", THREE, tmp / "out" / "m", good, *TINY, "--view", "agx"], "--view: invalid choice"
+    yield "spectral into the movie", ["movie", THREE, tmp / "out" / "m", good, *TINY, "--spectral-out",
+                                      tmp / "out" / "m"], "need a folder of their own"
+    yield "spectral into a file name", ["movie", THREE, tmp / "out" / "m", good, *TINY, "--spectral-out",
+                                        tmp / "out" / "s.npz"], "folder of frames NNNN.npz"
+    yield ("spectral into a used folder", ["movie", THREE, tmp / "m", good, *TINY, "--spectral-out", tmp / "out"],
+           "holds other files than frames NNNN.npz")
+    yield "spectral into a missing folder", ["movie", THREE, tmp / "out" / "m", good, *TINY, "--spectral-out",
+                                             tmp / "no" / "s"], "does not exist"
     yield "bad render setting in TOML", ["movie", ROOT / "data" / "scenes" / "bubbles_sky.toml",
                                          tmp / "out" / "m.mp4", good, "--spp", "0"], "--spp"
 
@@ -457,13 +537,6 @@ def test_render_movie_from_a_timeline_built_in_python(tmp_path):
     assert len(frames) == 3 and np.any(frames[0] != frames[2])
 
 
-@pytest.fixture(scope="module")
-def client():
-    distributed = pytest.importorskip("distributed")
-    with movie_module.local_cluster(2) as cluster, distributed.Client(cluster) as c:
-        yield c
-
-
 @pytest.mark.reference
 def test_distributed_frames_are_bit_identical_to_serial(tmp_path, drift, client):
     serial = render_movie(three(), drift, tmp_path / "serial", **TINY_SETTINGS, progress=False)
@@ -477,7 +550,7 @@ def test_distributed_frames_are_bit_identical_to_serial(tmp_path, drift, client)
 @pytest.mark.api
 def test_workers_load_the_kernels_from_numbas_cache_with_one_thread(tmp_path, drift, client):
     render_movie(three(), drift, tmp_path / "m", **TINY_SETTINGS, progress=False, client=client)
-    stats = client.run(movie_module.worker_numba_cache_stats)
+    stats = client.run(cluster_module.worker_numba_cache_stats)
     assert len(stats) == 2
     for s in stats.values():
         assert s["misses"] == 0, stats  # nothing compiled on a worker

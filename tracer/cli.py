@@ -79,7 +79,7 @@ _SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "
 _OPTION_NAMES = {k: "--" + k.replace("_", "-") for k in _SCENE_DEFAULTED}
 
 
-def _add_render_options(p):
+def _add_render_options(p, movie=False):
     # default None means "not given": resolved after the scene is read (_resolve_settings)
     from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH
 
@@ -107,8 +107,14 @@ def _add_render_options(p):
     p.add_argument("--view", choices=("clip", "aces"),
                    help="display view of a .png: clip each channel to [0, 1] (clip, the default) or "
                         "the ACES 2.0 filmic view (aces; needs opencolorio)")
-    p.add_argument("--spectral-out", metavar="FILE.npz",
-                   help="also save the per-band spectral image with its wavelengths (forces spectral transport)")
+    if movie:
+        p.add_argument("--spectral-out", metavar="FOLDER",
+                       help="also save each frame's per-band spectral image, FOLDER/0000.npz, ... (forces "
+                            "spectral transport)")
+    else:
+        p.add_argument("--spectral-out", metavar="FILE.npz",
+                       help="also save the per-band spectral image with its wavelengths (forces spectral "
+                            "transport)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -140,6 +146,7 @@ def build_parser():
     img.add_argument("--depth", type=_setting_type("depth"),
                      help=f"maximum ray generation, 1 = camera rays only ({LIMITS['depth'][0]}-{LIMITS['depth'][1]})")
     _add_render_options(img)
+    _add_cluster_options(img, "the image as tiles of rows")
     res = sub.add_parser("research", help="render at a trace depth and report the time and ray counts",
                          description="Render SCENE to OUT at trace depth DEPTH; print the render time "
                                      "(compilation excluded) and the rays traced by kind.", epilog=epilog)
@@ -258,6 +265,7 @@ def _main(argv=None):
     args = build_parser().parse_args(argv)
     if args.command in ("movie", "film"):
         return _movie(args)
+    from .cluster import check_cluster_options, cluster_client
     from .errors import SceneError
     from .output import save_spectral
     from .render import render_with_stats, save_image
@@ -272,10 +280,13 @@ def _main(argv=None):
         out = _check_output(out, bits=args.bits, exposure=args.exposure, view=args.view)
         spectral_out = _check_output(args.spectral_out, suffixes=(".npz",)) if args.spectral_out else None
         spectral_image = spectral_out is not None or out.suffix.lower() == ".npz"
+        workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
+        check_cluster_options(workers=workers, scheduler=scheduler)
         scene = _scene_from_args(args, scene_path)
         s = _resolve_settings(args, scene, spectral_image)  # every limit and the memory estimate, first
-        image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None,
-                                         spectral_image=spectral_image)
+        with cluster_client(workers=workers, scheduler=scheduler) as client:
+            image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None,
+                                             spectral_image=spectral_image, client=client)
         if out.suffix.lower() == ".npz":
             save_spectral(stats.spectral_image, out)
         else:
@@ -316,13 +327,17 @@ def _add_movie_commands(sub, epilog):
                             "the movie (.mp4, .gif, or a folder name) and the commands file")
         p.add_argument("--depth", type=_setting_type("depth"),
                        help=f"maximum ray generation, 1 = camera rays only ({LIMITS['depth'][0]}-{LIMITS['depth'][1]})")
-        _add_render_options(p)
+        _add_render_options(p, movie=True)
         p.add_argument("--fps", type=_fps, default=None, help="frames per second of an .mp4 or .gif (1-1000; 24)")
-        where = p.add_mutually_exclusive_group()
-        where.add_argument("--workers", type=_workers, metavar="N",
-                           help="render the frames on a local Dask cluster of N processes, one thread each")
-        where.add_argument("--scheduler", metavar="ADDRESS",
-                           help="render the frames on a running Dask cluster (e.g. tcp://host:8786)")
+        _add_cluster_options(p, "the frames")
+
+
+def _add_cluster_options(p, what):
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_workers, metavar="N",
+                       help=f"render {what} on a local Dask cluster of N processes, one thread each")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help=f"render {what} on a running Dask cluster (e.g. tcp://host:8786)")
 
 
 def _fps(text):
@@ -345,24 +360,24 @@ def _movie(args):
     """``tracer movie|film [SCENE] OUT COMMANDS``: everything checked before any work; exit 2
     with one line on a bad input, nothing written."""
     from .errors import SceneError
-    from .movie import DEFAULT_FPS, check_movie_output, render_movie
+    from .movie import DEFAULT_FPS, check_movie_output, check_spectral_output, render_movie
     from .movie_commands import Timeline
 
     try:
         if len(args.paths) not in (2, 3):
             return _fail(f"tracer {args.command}: error: expected [SCENE] OUT COMMANDS")
         scene_path, out, commands = (None, *args.paths) if len(args.paths) == 2 else args.paths
-        unsupported = [o for o, v in (("--exposure", args.exposure), ("--view", args.view),
-                                      ("--spectral-out", args.spectral_out)) if v is not None]
-        if unsupported:  # frames are saved as clipped 8-bit (or 16-bit) sRGB PNGs, exposure 0
-            return _fail(f"tracer {args.command}: error: {', '.join(unsupported)} not supported for movies yet")
         check_movie_output(out)
+        if args.spectral_out is not None:
+            check_spectral_output(args.spectral_out, out)
         scene = _scene_from_args(args, scene_path)
         timeline = Timeline.from_file(scene, commands)
         s = _resolve_settings(args, scene)
         render_movie(scene, timeline, out, fps=DEFAULT_FPS if args.fps is None else args.fps, bits=8 if args.bits is None else args.bits,
                      progress=False if args.quiet else None, workers=args.workers, scheduler=args.scheduler,
-                     names={**_OPTION_NAMES, "fps": "--fps"}, **s)
+                     exposure=args.exposure, view=args.view, spectral_out=args.spectral_out,
+                     names={**_OPTION_NAMES, "fps": "--fps", "exposure": "--exposure", "view": "--view",
+                            "workers": "--workers"}, **s)
     except SceneError as err:
         return _fail(str(err))
     except (ValueError, OSError) as err:

@@ -525,8 +525,9 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
 
 
 @njit(**_NO_NRT)
-def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, counts, spectrum):
-    """Render image row *y* (see :func:`render_rows`) with the thread's workspace *ws*."""
+def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, image, counts, spectrum):
+    """Render image row *y* into row ``y - row0`` of *image*, *counts* and *spectrum* (see
+    :func:`render_rows`) with the thread's workspace *ws*."""
     cam = scene.camera[0]
     env = scene.environment[0]
     o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
@@ -536,6 +537,7 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
     L = ws.L
     nc = L.shape[0]
     ray_counts = ws.counts
+    iy = y - row0  # the row's place in the output arrays
     for i in range(N_COUNTS):  # here, not in render_rows' parallel loop: numba's parfor pass
         ray_counts[i] = 0  # hoisted that reset out of the loop over a task's rows
     for x in range(width):
@@ -547,7 +549,7 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
         b = 0.0
         if spectrum is not None:  # (None: pruned when compiled)
             for c in range(nc):
-                spectrum[y, x, c] = 0.0
+                spectrum[iy, x, c] = 0.0
         for s in range(spp):
             fx, fy = stratified_offset(seed, pix, s, spp)
             d0 = camera_ray(cam, x + fx, y + fy, width, height)
@@ -561,7 +563,7 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
                 b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
                 if spectrum is not None:  # the channels the RGB above came from (M = to_rgb @ basis)
                     for c in range(nc):
-                        spectrum[y, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
+                        spectrum[iy, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
                 continue
             trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, sample_key(seed, pix, s))
             for c in range(nc):
@@ -570,24 +572,27 @@ def render_row(scene, ws, y, width, height, spp, seed, depth, threshold, image, 
                 b += to_rgb[2, c] * L[c]
             if spectrum is not None:
                 for c in range(nc):
-                    spectrum[y, x, c] += L[c]
-        image[y, x, 0] = r / spp
-        image[y, x, 1] = g / spp
-        image[y, x, 2] = b / spp
+                    spectrum[iy, x, c] += L[c]
+        image[iy, x, 0] = r / spp
+        image[iy, x, 1] = g / spp
+        image[iy, x, 2] = b / spp
         if spectrum is not None:
             for c in range(nc):
-                spectrum[y, x, c] /= spp
+                spectrum[iy, x, c] /= spp
     for i in range(N_COUNTS):
-        counts[y, i] = ray_counts[i]
+        counts[iy, i] = ray_counts[i]
 
 
 @njit(parallel=True, nogil=True, **_JIT)
-def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, threshold, image, counts, spectrum,
-                cancel):
-    """Render the rows ``rows`` (int64, distinct, any order) of ``image`` (height, width, 3:
-    linear sRGB) and their ray counts into ``counts`` (height, N_COUNTS).
+def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, depth, threshold, image, counts,
+                spectrum, cancel):
+    """Render the rows ``rows`` (int64, distinct, any order, each from *row0* to
+    ``row0 + image.shape[0] - 1``) of the (height, width) image into ``image`` (rows, width, 3:
+    linear sRGB; image row *y* at ``image[y - row0]``) and their ray counts into ``counts``
+    (rows, N_COUNTS).  A whole image is ``row0 = 0`` with arrays of *height* rows; a tile of
+    rows ``[row0, row0 + n)`` (:func:`tracer.render.render_tile`) has arrays of n rows.
 
-    *spectrum*: an array (height, width, C) float64, C the scene's channels
+    *spectrum*: an array (rows, width, C) float64, C the scene's channels
     (``scene.rgb_basis.shape[0]``), into which each pixel's mean radiance per channel is
     written as well (the RGB pixel is ``scene.to_rgb`` times it, up to rounding), or None.
     numba compiles the two separately and prunes the per-channel code from the None one, so
@@ -609,4 +614,4 @@ def render_rows(scene, rows, rows_per_task, width, height, spp, seed, depth, thr
     for task in prange(n_tasks):
         ws = new_workspace(scene, depth, cancel)
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
-            render_row(scene, ws, rows[k], width, height, spp, seed, depth, threshold, image, counts, spectrum)
+            render_row(scene, ws, rows[k], row0, width, height, spp, seed, depth, threshold, image, counts, spectrum)

@@ -18,7 +18,7 @@ output, commands or setting writes nothing at all.
 
 A frame's image is :func:`render_frame_png` of its description: the same function serially and
 on every worker, a module-level function (so that workers import it and load the numba kernels
-from the on-disk cache, :func:`worker_numba_cache_stats`), and the image does not depend on the
+from the on-disk cache, :func:`tracer.cluster.worker_numba_cache_stats`), and the image does not depend on the
 thread count, so distributed frames are bit for bit the serial ones.
 """
 
@@ -35,16 +35,19 @@ from pathlib import Path
 
 from bubbleoptics.atomic import write_atomically
 
+from .cluster import check_cluster_options, cluster_client
 from .movie_commands import Frame, Timeline
-from .render import render, resolve_settings, save_image
+from .render import resolve_settings, save_image
 from .scene import Scene
 
-__all__ = ["render_movie", "render_frame_png", "check_movie_output", "movie_cache_folder", "MovieResult",
-           "local_cluster", "worker_numba_cache_stats", "DEFAULT_FPS"]
+__all__ = ["render_movie", "render_frame_files", "render_frame_png", "check_movie_output", "check_spectral_output",
+           "movie_cache_folder", "MovieResult", "DEFAULT_FPS"]
 
 DEFAULT_FPS = 24
 #: A folder movie's frame files (and what an existing OUT folder may hold to be replaced).
 _FRAME_FILE = re.compile(r"\d{4,}\.png")
+#: A spectral folder's frame files.
+_SPECTRAL_FILE = re.compile(r"\d{4,}\.npz")
 #: Suffixes that mean a file, not a folder of frames: refused rather than made into a folder.
 _NOT_A_MOVIE = {".png", ".npy", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".avi", ".mov", ".mkv", ".webm", ".txt",
                 ".toml"}
@@ -96,14 +99,7 @@ def check_movie_output(out) -> tuple[Path, str]:
     if kind != "folder" and out.is_dir():
         raise ValueError(f"{out}: is a folder, not a file name")
     if kind == "folder":
-        if out.exists() and not out.is_dir():
-            raise ValueError(f"{out}: is a file; a movie not ending in .mp4 or .gif is a folder of PNG frames")
-        if out.is_dir():
-            others = sorted(p.name for p in out.iterdir() if not _FRAME_FILE.fullmatch(p.name))
-            if others:
-                raise ValueError(f"{out}: the folder exists and holds other files than frames NNNN.png "
-                                 f"({', '.join(others[:3])}{', ...' if len(others) > 3 else ''}); "
-                                 "give a new folder name")
+        _check_frame_folder(out, _FRAME_FILE, "a movie not ending in .mp4 or .gif is a folder of PNG frames")
     cache = movie_cache_folder(out)
     if cache.exists() and not cache.is_dir():
         raise ValueError(f"{cache}: the frame cache's name is taken by a file")
@@ -115,61 +111,81 @@ def check_movie_output(out) -> tuple[Path, str]:
     return out, kind
 
 
+def _check_frame_folder(out: Path, pattern, what):
+    """*out* may become a folder of frame files matching *pattern* (``NNNN`` and a suffix): it
+    is not a file, and if it exists it holds only such frames (a previous movie's, which are
+    replaced)."""
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{out}: is a file; {what}")
+    if out.is_dir():
+        others = sorted(p.name for p in out.iterdir() if not pattern.fullmatch(p.name))
+        if others:
+            suffix = pattern.pattern.rsplit(".", 1)[-1]
+            raise ValueError(f"{out}: the folder exists and holds other files than frames NNNN.{suffix} "
+                             f"({', '.join(others[:3])}{', ...' if len(others) > 3 else ''}); give a new folder name")
+
+
+def check_spectral_output(spectral_out, out) -> Path:
+    """The folder *spectral_out* that receives a movie's per-frame spectral images
+    ``0000.npz``, ... (:func:`tracer.save_spectral`), checked before any work like a folder
+    movie (:func:`check_movie_output`), and neither the movie *out* nor its cache."""
+    spectral_out = Path(spectral_out)
+    if not spectral_out.name or spectral_out.name in (".", ".."):
+        raise ValueError(f"{spectral_out}: give the spectral images' folder a name")
+    if spectral_out.suffix.lower() in _NOT_A_MOVIE | {".npz", ".mp4", ".gif"}:
+        raise ValueError(f"{spectral_out}: a movie's spectral images go into a folder of frames NNNN.npz "
+                         f"(a name without {spectral_out.suffix})")
+    if not spectral_out.parent.is_dir():
+        raise ValueError(f"{spectral_out}: folder {spectral_out.parent} does not exist")
+    if spectral_out.resolve() in (Path(out).resolve(), movie_cache_folder(out).resolve()):
+        raise ValueError(f"{spectral_out}: the spectral images need a folder of their own (not the movie or "
+                         "its cache)")
+    _check_frame_folder(spectral_out, _SPECTRAL_FILE, "a movie's spectral images go into a folder")
+    return spectral_out
+
+
 # ------------------------------------------------------------------------------------------
 # one frame (the task)
 # ------------------------------------------------------------------------------------------
-def render_frame_png(frame: Frame, bits: int = 8) -> bytes:
-    """The PNG file (bytes) of *frame*: :func:`tracer.render` of its scene with its settings,
-    saved by :func:`tracer.save_image` exactly as ``tracer image`` saves it.
+def render_frame_files(frame: Frame, bits: int = 8) -> tuple[bytes, bytes | None]:
+    """The PNG file (bytes) of *frame*, and its spectral image's ``.npz`` file (bytes) if it is
+    spectral (else None): :func:`tracer.render` of its scene with its settings, saved by
+    :func:`tracer.save_image` (and :func:`tracer.save_spectral`) with its display settings,
+    exactly as ``tracer image`` saves them.
 
     The task every worker runs: a module-level function, so a worker imports ``tracer`` (and
     loads its kernels from numba's cache) rather than receiving a pickled copy.
     """
-    image = render(frame.scene, **frame.settings, progress=False)
+    from .output import save_spectral
+    from .render import render_with_stats
+
+    image, stats = render_with_stats(frame.scene, **frame.settings, progress=False, spectral_image=frame.spectral)
     with tempfile.TemporaryDirectory(prefix="tracer-frame-") as tmp:
-        path = Path(tmp) / "frame.png"
-        save_image(image, path, bits=bits)
-        return path.read_bytes()
+        png, npz = Path(tmp) / "frame.png", Path(tmp) / "frame.npz"
+        save_image(image, png, bits=bits, **frame.display)
+        if frame.spectral:
+            save_spectral(stats.spectral_image, npz)
+        return png.read_bytes(), (npz.read_bytes() if frame.spectral else None)
 
 
-def worker_numba_cache_stats() -> dict:
-    """numba's cache hits and misses (compilations) of the integrator's row kernel in this
-    process, and numba's thread count: ``{"hits": n, "misses": m, "threads": t}``. Run on workers (``client.run``) to check that they
-    loaded the kernels rather than compiling them."""
-    import numba
-
-    from .integrator import render_rows
-
-    stats = render_rows.stats
-    return {"hits": int(sum(stats.cache_hits.values())), "misses": int(sum(stats.cache_misses.values())),
-            "threads": int(numba.config.NUMBA_NUM_THREADS)}
+def render_frame_png(frame: Frame, bits: int = 8) -> bytes:
+    """The PNG file (bytes) of *frame* (:func:`render_frame_files`)."""
+    return render_frame_files(frame, bits)[0]
 
 
 # ------------------------------------------------------------------------------------------
 # Dask
 # ------------------------------------------------------------------------------------------
-def local_cluster(workers: int):
-    """A :class:`distributed.LocalCluster` of *workers* processes with one thread each, and
-    ``NUMBA_NUM_THREADS=1`` in every worker (numba reads it when it is first imported), so that
-    the workers share the cores rather than each starting one numba thread per core."""
-    from distributed import LocalCluster
-
-    env = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-    return LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None,
-                        scheduler_kwargs={"dashboard_address": ":0"},  # its HTTP server on a free port
-                        env=env, silence_logs=50)  # CRITICAL: no shutdown chatter on stderr
-
-
 def _render_distributed(client, todo, bits, keys, store, bar):
-    """Render the frames *todo* on *client*'s cluster, ``store(frame, png)`` each as it comes."""
+    """Render the frames *todo* on *client*'s cluster, ``store(frame, files)`` each as it comes."""
     from distributed import as_completed
 
-    futures = client.map(render_frame_png, todo, bits=bits, key=[f"tracer-frame-{k}" for k in keys],
+    futures = client.map(render_frame_files, todo, bits=bits, key=[f"tracer-frame-{k}" for k in keys],
                          retries=3, pure=False)
     by_key = {f.key: frame for f, frame in zip(futures, todo)}
     try:
-        for future, png in as_completed(futures, with_results=True):
-            store(by_key[future.key], png)
+        for future, files in as_completed(futures, with_results=True):
+            store(by_key[future.key], files)
             if bar is not None:
                 bar.update(1)
     finally:
@@ -213,13 +229,13 @@ def _write_gif(out: Path, paths, fps):
     write_atomically(out, lambda tmp: iio.imwrite(tmp, frames, extension=".gif", duration=1000.0 / fps, loop=0))
 
 
-def _write_folder(out: Path, paths):
+def _write_folder(out: Path, paths, suffix=".png"):
     digits = max(4, len(str(len(paths) - 1)))
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
     old = None
     try:
         for i, p in enumerate(paths):
-            shutil.copyfile(p, tmp / f"{i:0{digits}d}.png")
+            shutil.copyfile(p, tmp / f"{i:0{digits}d}{suffix}")
         os.chmod(tmp, 0o777 & ~_umask())
         if out.is_dir():  # a previous movie (check_movie_output allowed it): swap it out
             old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
@@ -245,7 +261,8 @@ def _umask():
 # the movie
 # ------------------------------------------------------------------------------------------
 def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=None, fps=DEFAULT_FPS, bits=8,
-                 progress=None, names=None, **render_options) -> MovieResult:
+                 exposure=None, view=None, spectral_out=None, progress=None, names=None,
+                 **render_options) -> MovieResult:
     """Render the movie of *commands* applied to *scene* into *out*; returns a :class:`MovieResult`.
 
     Parameters
@@ -260,6 +277,11 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
         *scheduler* (the address of a running scheduler); default: here, serially.
     fps : frames per second of an ``.mp4`` or ``.gif`` (1-1000).
     bits : PNG bit depth of the frames (16 only for a folder of frames).
+    exposure, view : the frames' display settings, as :func:`tracer.save_image`'s (stops, and
+        ``"clip"`` or ``"aces"``); None: the scene's ``[render]`` table, else 0 and ``"clip"``.
+    spectral_out : a folder that receives each frame's spectral image ``0000.npz``, ...
+        (:func:`tracer.save_spectral`); this renders the frames with spectral transport, as
+        ``tracer image --spectral-out`` does.
     progress : a progress bar over frames (default: when stderr is a terminal).
     names : what the caller calls each render setting in errors (the command line's options).
     render_options : :func:`tracer.render`'s settings (width, height, depth, spp, threshold,
@@ -286,30 +308,35 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
         w, h = (names or {}).get("width", "width"), (names or {}).get("height", "height")
         raise ValueError(f"{out}: an .mp4 (H.264, yuv420p) needs an even width and height, got "
                          f"{settings['width']} x {settings['height']} ({w}, {h})")
-    if sum(x is not None for x in (client, workers, scheduler)) > 1:
-        raise ValueError("give at most one of client, workers and scheduler")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    if workers is not None or scheduler is not None:
-        try:
-            import distributed  # noqa: F401
-        except ImportError:
-            raise ValueError("rendering on a Dask cluster needs dask.distributed: pip install "
-                             "'bubbleoptics[dask]'") from None
-    frames = timeline.frames(settings)
+    check_cluster_options(client, workers, scheduler, names)
+    from .output import DISPLAY_DEFAULTS, check_display_settings
+
+    table = scene.render_defaults
+    display = check_display_settings(table.get("exposure", DISPLAY_DEFAULTS["exposure"]) if exposure is None
+                                     else exposure, table.get("view", DISPLAY_DEFAULTS["view"]) if view is None
+                                     else view, names)
+    if spectral_out is not None:
+        spectral_out = check_spectral_output(spectral_out, out)
+    frames = timeline.frames(settings, display, spectral=spectral_out is not None)
 
     cache = movie_cache_folder(out)
     keys = [f.key(bits) for f in frames]
     paths = [cache / f"{k}.png" for k in keys]
+    spectral_paths = [p.with_suffix(".npz") for p in paths]
     todo, todo_keys, seen = [], [], set()
     for f, k, p in zip(frames, keys, paths):
-        if k not in seen and not p.is_file():  # identical frames are rendered once
+        cached = p.is_file() and (not f.spectral or p.with_suffix(".npz").is_file())
+        if k not in seen and not cached:  # identical frames are rendered once
             todo.append(f)
             todo_keys.append(k)
         seen.add(k)
 
-    def store(frame, png):
-        write_atomically(cache / f"{frame.key(bits)}.png", lambda tmp: Path(tmp).write_bytes(png))
+    def store(frame, files):
+        png, npz = files
+        key = frame.key(bits)
+        if npz is not None:  # first: a frame counts as cached once its .png is there
+            write_atomically(cache / f"{key}.npz", lambda tmp: Path(tmp).write_bytes(npz))
+        write_atomically(cache / f"{key}.png", lambda tmp: Path(tmp).write_bytes(png))
 
     t_render = time.perf_counter()
     if todo:
@@ -322,26 +349,14 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
             bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), unit="frame", desc="movie",
                        file=sys.stderr)
         try:
-            if client is None and workers is None and scheduler is None:
-                for frame in todo:
-                    store(frame, render_frame_png(frame, bits))
-                    if bar is not None:
-                        bar.update(1)
-            elif client is not None:
-                _render_distributed(client, todo, bits, todo_keys, store, bar)
-            else:
-                from distributed import Client
-
-                if workers is not None:
-                    with local_cluster(workers) as cluster, Client(cluster) as c:
-                        _render_distributed(c, todo, bits, todo_keys, store, bar)
+            with cluster_client(client, workers, scheduler) as c:
+                if c is None:
+                    for frame in todo:
+                        store(frame, render_frame_files(frame, bits))
+                        if bar is not None:
+                            bar.update(1)
                 else:
-                    try:
-                        c = Client(scheduler, timeout="10s")
-                    except (OSError, TimeoutError) as err:
-                        raise ValueError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from None
-                    with c:
-                        _render_distributed(c, todo, bits, todo_keys, store, bar)
+                    _render_distributed(c, todo, bits, todo_keys, store, bar)
         finally:
             if bar is not None:
                 bar.close()
@@ -352,5 +367,7 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
         _write_gif(out, paths, fps)
     else:
         _write_folder(out, paths)
+    if spectral_out is not None:
+        _write_folder(spectral_out, spectral_paths, ".npz")
     t_end = time.perf_counter()
     return MovieResult(out, len(frames), len(todo), cache, t_encode - t_render, t_end - t_encode)

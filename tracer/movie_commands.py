@@ -108,10 +108,13 @@ class CommandsError(SceneError):
 @dataclass
 class Frame:
     """One image of a movie, self-contained: render ``scene`` with ``settings`` (the resolved
-    keyword arguments of :func:`tracer.render`).
+    keyword arguments of :func:`tracer.render`) and save it as a PNG with ``display`` (the
+    keyword arguments ``exposure`` and ``view`` of :func:`tracer.save_image`).
 
     ``index`` is the frame's place in the movie (0-based), ``time`` the film time in seconds
-    (the ``time`` commands so far), ``line`` the ``render`` command's line that made it.
+    (the ``time`` commands so far), ``line`` the ``render`` command's line that made it;
+    ``spectral``: the frame also keeps its per-band spectral image (``tracer image
+    --spectral-out``), which renders it with spectral transport.
     """
 
     index: int
@@ -119,15 +122,19 @@ class Frame:
     settings: dict
     time: float = 0.0
     line: int | None = None
+    display: dict = field(default_factory=lambda: {"exposure": 0.0, "view": "clip"})
+    spectral: bool = False
 
     def key(self, bits=8) -> str:
         """The hash that names this frame's image in a cache: of everything that decides its
-        pixels (the scene, the settings, the film time, the PNG bit depth), not of its index."""
+        pixels (the scene, the settings, the display settings, whether it is spectral, the film
+        time, the PNG bit depth), not of its index."""
         return frame_key(self, bits)
 
 
 #: Bumped when what a frame's key covers changes meaning (cached images then stop matching).
-KEY_VERSION = 1
+#: 2: the display settings and the spectral flag.
+KEY_VERSION = 2
 
 
 def _feed(h, obj):
@@ -187,6 +194,8 @@ def frame_key(frame: Frame, bits=8) -> str:
     _feed(h, ("bubbleoptics movie frame", KEY_VERSION, _package_version(), int(bits)))
     _feed(h, frame.scene)
     _feed(h, frame.settings)
+    _feed(h, {k: (float(v) if k == "exposure" else v) for k, v in frame.display.items()})
+    _feed(h, bool(frame.spectral))
     _feed(h, float(frame.time))
     return h.hexdigest()
 
@@ -691,10 +700,11 @@ class Timeline:
                 st = _apply(start, changes, k / count)
                 yield st.scene, st.time
 
-    def frames(self, settings=None) -> list[Frame]:
+    def frames(self, settings=None, display=None, spectral=False) -> list[Frame]:
         """One :class:`Frame` per image, each with a copy of *settings* (resolved render
         settings, e.g. from :func:`tracer.render.resolve_settings`; None: the scene's
-        defaults). ValueError if changes were made after the last :meth:`render`."""
+        defaults), of *display* (``exposure`` and ``view``; None: 0 and ``"clip"``) and the
+        flag *spectral*. ValueError if changes were made after the last :meth:`render`."""
         if self._pending:
             raise ValueError(f"{len(self._pending)} change(s) after the last render would never be shown: "
                              "call render(K) after them")
@@ -706,7 +716,8 @@ class Timeline:
         for start, changes, count, line in self._segments:
             for k in range(1, count + 1):
                 st = _apply(start, changes, k / count)
-                out.append(Frame(len(out), st.scene, dict(settings), st.time, line))
+                out.append(Frame(len(out), st.scene, dict(settings), st.time, line,
+                                 dict(display or {"exposure": 0.0, "view": "clip"}), bool(spectral)))
         return out
 
 

@@ -64,6 +64,7 @@ __all__ = [
     "save_spectral",
     "load_spectral",
     "check_output_path",
+    "check_display_settings",
     "is_display_output",
     "display_image",
     "display_codes",
@@ -131,6 +132,30 @@ def _check_view(view):
     if view not in VIEWS:
         raise ValueError(f"view must be one of {', '.join(map(repr, VIEWS))} (got {view!r})")
     return view
+
+
+def check_display_settings(exposure=0.0, view="clip", names=None) -> dict:
+    """``{"exposure": float, "view": str}`` checked: exposure a number of stops within
+    +-:data:`MAX_EXPOSURE`, view one of :data:`VIEWS` with its library installed; else
+    ValueError (one line; *names* maps ``exposure``/``view`` to what the caller calls them).
+
+    >>> check_display_settings(1, "clip")
+    {'exposure': 1.0, 'view': 'clip'}
+    """
+    names = names or {}
+    try:
+        exposure = _check_exposure(exposure)
+        view = _check_view(view)
+    except ValueError as err:
+        text = str(err)
+        for key in ("exposure", "view"):
+            if text.startswith(key):
+                text = names.get(key, key) + text[len(key):]
+        raise ValueError(text) from None
+    missing = _writer_missing(view)
+    if missing:
+        raise ValueError(f"{names.get('view', 'view')} {view!r} {missing}")
+    return {"exposure": exposure, "view": view}
 
 
 def _writer_missing(key):

@@ -74,9 +74,9 @@ _NO_SPECTRUM = None
 
 
 def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
-               spectrum=_NO_SPECTRUM):
-    """Render the rows *rows* into ``image[rows]`` and ``counts[rows]`` (and ``spectrum[rows]``,
-    (height, width, C), unless it is :data:`_NO_SPECTRUM`).
+               spectrum=_NO_SPECTRUM, row0=0):
+    """Render the rows *rows* into ``image[rows - row0]`` and ``counts[rows - row0]`` (and
+    ``spectrum[rows - row0]``, (rows, width, C), unless it is :data:`_NO_SPECTRUM`).
 
     The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
     Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
@@ -92,8 +92,8 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
     def work():
         try:
             with numba.parallel_chunksize(1):
-                render_rows(packed, _spread(rows), ROWS_PER_TASK, width, height, spp, seed, depth, threshold,
-                            image, counts, spectrum, cancel)
+                render_rows(packed, _spread(rows), row0, ROWS_PER_TASK, width, height, spp, seed, depth,
+                            threshold, image, counts, spectrum, cancel)
         except BaseException as exc:  # re-raised in the calling thread
             failure.append(exc)
         finally:
@@ -180,6 +180,7 @@ def render_with_stats(
     spectral_method=None,
     progress=None,
     spectral_image=False,
+    client=None,
 ):
     """Render and return ``(image, RenderStats)``; see :func:`render`.
 
@@ -194,34 +195,16 @@ def render_with_stats(
     spectral = _spectral_transport(spectral, spectral_image)
     packed = pack_scene(scene, spectral_samples=spectral_samples, force_spectral=spectral,
                         spectral_method=spectral_method)
-    warm_up(packed)
-    image = np.zeros((height, width, 3))
-    counts = np.zeros((height, N_COUNTS), dtype=np.int64)
-    spectrum = np.zeros((height, width, packed.rgb_basis.shape[0])) if spectral_image else _NO_SPECTRUM
+    show = sys.stderr.isatty() if progress is None else progress
     t0 = time.perf_counter()
-    # a first call on every 16th row measures the scene; the rest in one call if short, else in
-    # interleaved parts of about CALL_SECONDS each behind a progress bar
-    first, *_ = _interleaved(height, max(1, min(16, height), height // 64))
-    rest = np.setdiff1d(np.arange(height, dtype=np.int64), first)
-    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum)
-    per_row = (time.perf_counter() - t0) / first.size
-    predicted = per_row * rest.size
-    n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
-    show = (sys.stderr.isatty() if progress is None else progress) and predicted > PROGRESS_AFTER
-    bar = None
-    if show:
-        from tqdm import tqdm
+    if client is None:
+        warm_up(packed)
+        t0 = time.perf_counter()
+        image, counts, spectrum = _render_here(packed, s, 0, height, spectral_image, show)
+    else:
+        from .cluster import render_tiles
 
-        bar = tqdm(total=height, initial=first.size, unit="row", desc="render", leave=False, file=sys.stderr)
-    try:
-        for part in range(n_calls):
-            rows = rest[part::n_calls]
-            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum)
-            if bar is not None:
-                bar.update(rows.size)
-    finally:
-        if bar is not None:
-            bar.close()
+        image, counts, spectrum = render_tiles(client, packed, s, spectral_image, show)
     seconds = time.perf_counter() - t0
     total = counts.sum(axis=0)
     rays = {kind: int(n) for kind, n in zip(RAY_COUNT_KINDS, total)}
@@ -231,6 +214,51 @@ def render_with_stats(
     if spectral_image:
         stats.spectral_image = _spectral_image(packed, spectrum, image, method)
     return image, stats
+
+
+def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show):
+    """Render rows ``[row0, row1)`` of the image of settings *s* here, on numba's threads:
+    ``(image, counts, spectrum)`` of ``row1 - row0`` rows (spectrum None unless
+    *spectral_image*).  A first call on every 16th row measures the scene; the rest in one call
+    if short, else in interleaved parts of about :data:`CALL_SECONDS` each, behind a progress
+    bar when *show* and the rest is predicted to take over :data:`PROGRESS_AFTER`."""
+    width, height, spp, seed, depth, threshold = (s[k] for k in ("width", "height", "spp", "seed", "depth",
+                                                                  "threshold"))
+    n = row1 - row0
+    image = np.zeros((n, width, 3))
+    counts = np.zeros((n, N_COUNTS), dtype=np.int64)
+    spectrum = np.zeros((n, width, packed.rgb_basis.shape[0])) if spectral_image else _NO_SPECTRUM
+    t0 = time.perf_counter()
+    first = row0 + _interleaved(n, max(1, min(16, n), n // 64))[0]
+    rest = np.setdiff1d(np.arange(row0, row1, dtype=np.int64), first)
+    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0)
+    predicted = (time.perf_counter() - t0) / first.size * rest.size
+    n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
+    bar = None
+    if show and predicted > PROGRESS_AFTER:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n, initial=first.size, unit="row", desc="render", leave=False, file=sys.stderr)
+    try:
+        for part in range(n_calls):
+            rows = rest[part::n_calls]
+            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0)
+            if bar is not None:
+                bar.update(rows.size)
+    finally:
+        if bar is not None:
+            bar.close()
+    return image, counts, spectrum
+
+
+def render_tile(packed: PackedScene, settings: dict, row0: int, row1: int, spectral_image=False):
+    """Rows ``[row0, row1)`` of the image of the packed scene *packed* with the resolved render
+    *settings* (:func:`resolve_settings`): ``(image, counts, spectrum)``, ``row1 - row0`` rows
+    of each, equal bit for bit to those rows of the whole image (every pixel depends only on
+    the scene, the settings and its own position).  The task a Dask worker runs for
+    ``render(..., client=...)`` (:mod:`tracer.cluster`)."""
+    warm_up(packed)
+    return _render_here(packed, settings, int(row0), int(row1), spectral_image, False)
 
 
 def _spectral_transport(spectral, spectral_image):
@@ -253,7 +281,7 @@ def _spectral_image(packed: PackedScene, spectrum, image, method):
 
 
 def render(scene: Scene, *, width=None, height=None, depth=None, spp=None, threshold=None,
-           spectral_samples=None, seed=None, spectral=None, spectral_method=None, progress=None):
+           spectral_samples=None, seed=None, spectral=None, spectral_method=None, progress=None, client=None):
     """Render *scene* to an (height, width, 3) float64 array of linear sRGB radiance.
 
     The values are radiance, not display values: **they may be greater than 1** (highlights,
@@ -287,17 +315,19 @@ def render(scene: Scene, *, width=None, height=None, depth=None, spp=None, thres
         alias, :func:`tracer.pack.resolve_spectral_method`).
     seed : random seed (0 to 2**63 - 1); the image depends on it but not on the thread count.
     progress : show a progress bar (default: when stderr is a terminal).
+    client : a :class:`distributed.Client`: render the image as tiles of rows on its Dask
+        cluster (:func:`tracer.cluster.render_tiles`); the same image, bit for bit, as here.
 
     The per-band image behind the RGB one: :func:`render_spectral`.
     """
     return render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
                              spectral_samples=spectral_samples, seed=seed, spectral=spectral,
-                             spectral_method=spectral_method, progress=progress)[0]
+                             spectral_method=spectral_method, progress=progress, client=client)[0]
 
 
 def render_spectral(scene: Scene, *, width=None, height=None, depth=None, spp=None, threshold=None,
                     spectral_samples=None, seed=None, spectral=None, spectral_method=None,
-                    progress=None) -> SpectralImage:
+                    progress=None, client=None) -> SpectralImage:
     """Render *scene* and return its :class:`~tracer.output.SpectralImage`: each pixel's mean
     radiance per wavelength band (``radiance``, (height, width, spectral_samples)), the bands'
     centres and edges in nm, the matrices to linear sRGB and CIE XYZ, and the RGB image of the
@@ -321,5 +351,6 @@ def render_spectral(scene: Scene, *, width=None, height=None, depth=None, spp=No
     """
     _, stats = render_with_stats(scene, width=width, height=height, depth=depth, spp=spp, threshold=threshold,
                                  spectral_samples=spectral_samples, seed=seed, spectral=spectral,
-                                 spectral_method=spectral_method, progress=progress, spectral_image=True)
+                                 spectral_method=spectral_method, progress=progress, spectral_image=True,
+                                 client=client)
     return stats.spectral_image

@@ -1,0 +1,162 @@
+"""Rendering on a Dask cluster: the frames of a movie (:mod:`tracer.movie`) and the rows of one
+large image (:func:`render_tiles`), on a :class:`distributed.LocalCluster` of one-thread
+processes (``workers=N``) or a running cluster (``scheduler=ADDRESS``)::
+
+    dask scheduler                          # on one machine: prints tcp://HOST:8786
+    dask worker tcp://HOST:8786 --nthreads 1 --nworkers 4   # on each machine (NUMBA_NUM_THREADS=1)
+    tracer movie scene.toml out.mp4 moves.txt --scheduler tcp://HOST:8786
+
+Why Dask's distributed scheduler and not a hand-written pool: it retries the tasks of a lost
+worker (``retries``), balances uneven tasks dynamically, and the same code runs on one machine
+or on many (``docs/movies.md``).
+
+Every task is a module-level function (:func:`tracer.render.render_tile`,
+:func:`tracer.movie.render_frame_png`), so that a worker imports ``tracer`` and loads the numba
+kernels from the on-disk cache instead of compiling them (:func:`worker_numba_cache_stats`).
+A pixel depends only on the scene, the settings and its own position, never on which process
+or thread renders it, so a distributed image is bit for bit the local one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+
+import numpy as np
+
+from .integrator import N_COUNTS
+
+__all__ = ["local_cluster", "connect", "cluster_client", "render_tiles", "tile_bounds", "worker_numba_cache_stats",
+           "TILES_PER_WORKER"]
+
+#: Tiles of rows per worker in :func:`render_tiles`: enough that a worker that finishes early
+#: (its rows miss the bubbles) takes another tile, few enough that a tile's fixed cost (a task,
+#: its transfer) stays small beside its rows.
+TILES_PER_WORKER = 8
+
+
+def local_cluster(workers: int):
+    """A :class:`distributed.LocalCluster` of *workers* processes with one thread each, and
+    ``NUMBA_NUM_THREADS=1`` in every worker (numba reads it when it is first imported), so that
+    the workers share the cores rather than each starting one numba thread per core."""
+    from distributed import LocalCluster
+
+    env = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    return LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None,
+                        scheduler_kwargs={"dashboard_address": ":0"},  # its HTTP server on a free port
+                        env=env, silence_logs=50)  # CRITICAL: no shutdown chatter on stderr
+
+
+def connect(scheduler: str, timeout: str = "10s"):
+    """A :class:`distributed.Client` of the running scheduler at *scheduler* (``tcp://HOST:PORT``);
+    ValueError (one line) when it cannot be reached within *timeout*."""
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout=timeout)
+    except (OSError, TimeoutError) as err:
+        raise ValueError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from None
+
+
+def check_cluster_options(client=None, workers=None, scheduler=None, names=None):
+    """Check, before any work, that at most one of *client*, *workers* and *scheduler* is given,
+    that *workers* is an integer >= 1 and that ``distributed`` is installed when needed
+    (ValueError naming the option as *names* calls it, e.g. ``--workers``)."""
+    names = names or {}
+    if sum(x is not None for x in (client, workers, scheduler)) > 1:
+        raise ValueError("give at most one of client, workers and scheduler")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"{names.get('workers', 'workers')} must be an integer >= 1, got {workers!r}")
+    if workers is not None or scheduler is not None:
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise ValueError("rendering on a Dask cluster needs dask.distributed: pip install "
+                             "'bubbleoptics[dask]'") from None
+
+
+@contextlib.contextmanager
+def cluster_client(client=None, workers=None, scheduler=None):
+    """A context giving the :class:`distributed.Client` to render on: *client* itself (left
+    open), a :func:`local_cluster` of *workers* processes (started and stopped here), the
+    scheduler at *scheduler* (:func:`connect`; closed here), or None (render here) when none is
+    given."""
+    check_cluster_options(client, workers, scheduler)
+    if client is not None or (workers is None and scheduler is None):
+        yield client
+        return
+    from distributed import Client
+
+    if workers is not None:
+        with local_cluster(workers) as cluster, Client(cluster) as c:
+            yield c
+    else:
+        with connect(scheduler) as c:
+            yield c
+
+
+def worker_numba_cache_stats() -> dict:
+    """numba's cache hits and misses (compilations) of the integrator's row kernel in this
+    process, and numba's thread count: ``{"hits": n, "misses": m, "threads": t}``.  Run it on
+    workers (``client.run``) to check that they loaded the kernels rather than compiling them."""
+    import numba
+
+    from .integrator import render_rows
+
+    stats = render_rows.stats
+    return {"hits": int(sum(stats.cache_hits.values())), "misses": int(sum(stats.cache_misses.values())),
+            "threads": int(numba.config.NUMBA_NUM_THREADS)}
+
+
+def tile_bounds(height: int, n_tiles: int):
+    """*height* rows cut into at most *n_tiles* contiguous tiles ``(row0, row1)`` of sizes that
+    differ by at most one row."""
+    n = max(1, min(int(n_tiles), int(height)))
+    edges = np.linspace(0, height, n + 1).round().astype(int)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def render_tiles(client, packed, settings: dict, spectral_image=False, progress=False, n_tiles=None):
+    """The image of the packed scene *packed* with the resolved *settings*
+    (:func:`tracer.render.resolve_settings`), rendered as tiles of rows on *client*'s cluster:
+    ``(image, counts, spectrum)`` as :func:`tracer.render.render_tile` gives them for the whole
+    image, equal to a local render bit for bit.
+
+    The packed scene is sent to the workers once (``client.scatter(..., broadcast=True)``); each
+    of *n_tiles* tiles (default :data:`TILES_PER_WORKER` per worker) is one task, retried up to
+    three times if its worker is lost.  A progress bar over tiles when *progress*.
+    """
+    from distributed import as_completed
+
+    from .render import _NO_SPECTRUM, render_tile
+
+    width, height = settings["width"], settings["height"]
+    if n_tiles is None:
+        n_tiles = TILES_PER_WORKER * max(1, len(client.scheduler_info().get("workers", {})))
+    bounds = tile_bounds(height, n_tiles)
+    image = np.zeros((height, width, 3))
+    counts = np.zeros((height, N_COUNTS), dtype=np.int64)
+    spectrum = np.zeros((height, width, packed.rgb_basis.shape[0])) if spectral_image else _NO_SPECTRUM
+    remote = client.scatter(packed, broadcast=True, hash=False)
+    futures = [client.submit(render_tile, remote, settings, a, b, spectral_image, pure=False, retries=3)
+               for a, b in bounds]
+    where = {f.key: ab for f, ab in zip(futures, bounds)}
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=height, unit="row", desc="render", leave=False, file=sys.stderr)
+    try:
+        for future, (tile, tile_counts, tile_spectrum) in as_completed(futures, with_results=True):
+            a, b = where[future.key]
+            image[a:b] = tile
+            counts[a:b] = tile_counts
+            if spectral_image:
+                spectrum[a:b] = tile_spectrum
+            if bar is not None:
+                bar.update(b - a)
+    finally:
+        client.cancel([f for f in futures if not f.done()])
+        if bar is not None:
+            bar.close()
+    return image, counts, spectrum
