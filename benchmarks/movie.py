@@ -14,6 +14,9 @@ from an empty frame cache (a new temporary folder), so every frame is rendered.
   Dask's task stream gives each frame's compute time on its worker; the overhead a frame is
   ``(wall time x workers - sum of compute times) / frames``: scheduling, transfer of the
   scene and of the PNG, the cache write, and any worker left idle;
+* ``tiles``: one large image (1920x1080, 4 spp; 192x108 with ``--quick``) rendered here (numba's
+  threads) and as tiles of rows on the same cluster (``tracer.render(..., client=...)``,
+  :func:`tracer.cluster.render_tiles`), interleaved, the two images checked equal bit for bit;
 * ``encode``: the assembly of the .mp4 from the cached PNGs (reading them, ffmpeg's H.264),
   part of each run above, reported as its share of the wall time.
 
@@ -46,6 +49,7 @@ OUT = ROOT / "data" / "derived" / "movie.csv"
 COMMANDS = ROOT / "data" / "movies" / "builtin_orbit.txt"
 WORKERS = 2
 MODEL = dict(width=3840, height=2160, spp=64, frames=24 * 60)
+TILE_IMAGE = dict(width=1920, height=1080, spp=4)
 
 
 def spread(values):
@@ -144,6 +148,29 @@ def main(argv=None):
         print(f"dask x{WORKERS}: {med:.2f} s ({lo:.2f}-{hi:.2f}); a frame {c_med:.3f} s on a worker, overhead "
               f"{o_med * 1000:.1f} ms ({o_lo * 1000:.1f}-{o_hi * 1000:.1f}) = {o_med / c_med:.1%}; cluster start "
               f"{startup:.1f} s, first frame {warm:.1f} s", file=sys.stderr)
+        # one large image: here against tiles on the cluster, interleaved
+        import numpy as np
+
+        shrink = 10 if args.quick else 1
+        big = dict(width=TILE_IMAGE["width"] // shrink, height=TILE_IMAGE["height"] // shrink, spp=TILE_IMAGE["spp"])
+        here_t, tiles_t = [], []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            here = tracer.render(scene, **big, progress=False)
+            here_t.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            there = tracer.render(scene, **big, progress=False, client=client)
+            tiles_t.append(time.perf_counter() - t0)
+            assert np.array_equal(here, there)
+        for case, times, workers, threads in (("image here", here_t, 1, numba.get_num_threads()),
+                                              ("image tiles", tiles_t, WORKERS, 1)):
+            med, lo, hi = spread(times)
+            rows.append(dict(case=case, workers=workers, threads=threads, frames=1, width=big["width"],
+                             height=big["height"], seconds_median=med, seconds_min=lo, seconds_max=hi))
+        ratio = [t / h for t, h in zip(tiles_t, here_t)]
+        print(f"image {big['width']}x{big['height']} {big['spp']} spp: here {statistics.median(here_t):.2f} s, tiles "
+              f"on {WORKERS} workers {statistics.median(tiles_t):.2f} s (ratio {statistics.median(ratio):.2f}, "
+              f"{min(ratio):.2f}-{max(ratio):.2f}), equal bit for bit", file=sys.stderr)
     finally:
         client.close()
         cluster.close()
