@@ -16,6 +16,7 @@ __all__ = [
     "cyclic_tridiagonal_solve_nb",
     "rigid_rate_nb",
     "rigid_step_nb",
+    "evaporate_line_nb",
     "evaporate_nb",
     "plug_theta_sweep_nb",
     "plug_phi_sweep_nb",
@@ -70,102 +71,106 @@ def cyclic_tridiagonal_solve_nb(a, b, c, d, x, cp, dp, z, n):
         x[i] -= f * z[i]
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**_JIT)
 def rigid_rate_nb(h, area, face_len, sin_f, k_lub, out):
-    """:math:`\\partial h/\\partial t` of rigid-interface drainage, first-order upwind finite volume.
+    """:math:`\partial h/\partial t` of rigid-interface drainage on one θ column, first-order
+    upwind finite volume.
 
-    Face flux (volume per time through a θ face): :math:`F_{i} = \\ell_i\\,K\\sin\\theta_i\\,h_{i-1}^3`,
-    :math:`K = \\rho g/(12\\mu)` (*k_lub*, m⁻¹ s⁻¹), upwind because gravity drains towards +θ
-    (down); :math:`F = 0` on the poles.  ``out[j] = (F_j - F_{j+1}) / A_j``.
+    Face flux (volume per time through a θ face): :math:`F_{i} = \ell_i\,K\sin\theta_i\,h_{i-1}^3`,
+    :math:`K = \rho g/(12\mu)` (*k_lub*, m⁻¹ s⁻¹), upwind because gravity drains towards +θ
+    (down); :math:`F = 0` on the poles.  ``out[j] = (F_j - F_{j+1}) / A_j``.  Returns the largest
+    :math:`\partial F_{j+1}/\partial h_j / A_j` (s⁻¹): forward Euler (and SSP-RK3) with these
+    fluxes is monotone and keeps h >= 0 for dt x that <= 1.
     """
-    nt, nph = h.shape
-    for k in prange(nph):
-        top = 0.0
-        for j in range(nt):
-            bottom = face_len[j + 1] * k_lub * sin_f[j + 1] * h[j, k] ** 3
-            out[j, k] = (top - bottom) / area[j]
-            top = bottom
+    nt = h.shape[0]
+    top = 0.0
+    fastest = 0.0
+    for j in range(nt):
+        c = face_len[j + 1] * k_lub * sin_f[j + 1]
+        bottom = c * h[j] ** 3
+        out[j] = (top - bottom) / area[j]
+        top = bottom
+        r = 3.0 * c * h[j] ** 2 / area[j]
+        if r > fastest:
+            fastest = r
+    return fastest
 
 
-@njit(**_JIT_PARALLEL)
-def _rigid_max_rate_nb(h, area, face_len, sin_f, k_lub):
-    """Largest :math:`\\partial F_{j+1}/\\partial h_j / A_j` (s⁻¹): forward Euler (and SSP-RK3)
-    with upwind fluxes is monotone and positive for dt * this <= 1."""
-    nt, nph = h.shape
-    col = np.zeros(nph)
-    for k in prange(nph):
-        m = 0.0
-        for j in range(nt - 1):
-            r = 3.0 * face_len[j + 1] * k_lub * sin_f[j + 1] * h[j, k] ** 2 / area[j]
-            if r > m:
-                m = r
-        col[k] = m
-    return col.max()
+@njit(**_JIT)
+def evaporate_line_nb(h, depth, area):
+    """Thin the cells of one line by *depth* (m, = E dt), never below 0, in place; return the
+    volume removed (m³, exactly what left the cells: less than depth x area where one runs dry).
+    *area* is per cell of the line."""
+    s = 0.0
+    if depth == 0.0:
+        return s
+    for j in range(h.shape[0]):
+        old = h[j]
+        new = old - depth
+        if new < 0.0:
+            new = 0.0
+        h[j] = new
+        s += area[j] * (old - new)
+    return s
 
 
 @njit(**_JIT_PARALLEL)
 def evaporate_nb(h, depth, area):
-    """Thin every cell by *depth* (m, = E dt), never below 0, in place; return the volume removed
-    (m³, exactly what left the cells: less than depth x area where a cell runs dry)."""
-    nt, nph = h.shape
+    """:func:`evaporate_line_nb` on every column of *h* (n_theta, n_phi); returns the volume (m³)."""
+    nph = h.shape[1]
     col = np.zeros(nph)
     if depth == 0.0:
         return 0.0
     for k in prange(nph):
-        s = 0.0
-        for j in range(nt):
-            old = h[j, k]
-            new = old - depth
-            if new < 0.0:
-                new = 0.0
-            h[j, k] = new
-            s += area[j] * (old - new)
-        col[k] = s
+        line = h[:, k].copy()
+        col[k] = evaporate_line_nb(line, depth, area)
+        h[:, k] = line
     return col.sum()
 
 
 @njit(**_JIT_PARALLEL)
-def _axpby_nb(out, a, x, b, y):
-    """out = a x + b y, elementwise (2-D)."""
-    nt, nph = out.shape
+def rigid_step_nb(h, dt, area, face_len, sin_f, k_lub, evaporation, cfl, max_substeps, substeps, evaporated):
+    """Advance rigid-interface drainage by *dt* seconds, in place, each θ column on its own (the
+    columns do not exchange liquid): SSP-RK3 (Shu & Osher 1988) substeps of at most
+    ``cfl / max rate`` each (recomputed every substep), each followed by evaporation
+    ``E dt_sub``.  Writes per column the substeps taken into *substeps* (-1 if more than
+    *max_substeps* were needed; the column is then partly advanced) and the evaporated volume
+    (m³) into *evaporated*."""
+    nt, nph = h.shape
     for k in prange(nph):
-        for j in range(nt):
-            out[j, k] = a * x[j, k] + b * y[j, k]
-
-
-@njit(**_JIT)
-def rigid_step_nb(h, dt, area, face_len, sin_f, k_lub, evaporation, cfl, max_substeps):
-    """Advance rigid-interface drainage by *dt* seconds, in place: SSP-RK3 (Shu & Osher 1988)
-    substeps of at most ``cfl / max_rate`` each (recomputed every substep), each followed by
-    evaporation ``E dt_sub``.  Returns ``(substeps, evaporated volume in m³)``; substeps is -1
-    (and *h* partly advanced) if more than *max_substeps* were needed."""
-    rate = np.empty_like(h)
-    h1 = np.empty_like(h)
-    h2 = np.empty_like(h)
-    done = 0.0
-    n = 0
-    evaporated = 0.0
-    while done < dt:
-        if n >= max_substeps:
-            return -1, evaporated
-        r = _rigid_max_rate_nb(h, area, face_len, sin_f, k_lub)
-        step = dt - done
-        if r * step > cfl:
-            step = cfl / r
-            if done + step >= dt:  # rounding: never a sliver of a step
-                step = dt - done
-        rigid_rate_nb(h, area, face_len, sin_f, k_lub, rate)
-        _axpby_nb(h1, 1.0, h, step, rate)
-        rigid_rate_nb(h1, area, face_len, sin_f, k_lub, rate)
-        _axpby_nb(h2, 1.0, h1, step, rate)
-        _axpby_nb(h2, 0.75, h, 0.25, h2)
-        rigid_rate_nb(h2, area, face_len, sin_f, k_lub, rate)
-        _axpby_nb(h1, 1.0, h2, step, rate)
-        _axpby_nb(h, 1.0 / 3.0, h, 2.0 / 3.0, h1)
-        evaporated += evaporate_nb(h, evaporation * step, area)
-        done = dt if step == dt - done else done + step
-        n += 1
-    return n, evaporated
+        y = h[:, k].copy()
+        rate = np.empty(nt)
+        y1 = np.empty(nt)
+        y2 = np.empty(nt)
+        done = 0.0
+        n = 0
+        ev = 0.0
+        while done < dt:
+            if n >= max_substeps:
+                n = -1
+                break
+            r = rigid_rate_nb(y, area, face_len, sin_f, k_lub, rate)
+            step = dt - done
+            last = True
+            if r * step > cfl:
+                step = cfl / r
+                last = done + step >= dt
+                if last:  # rounding: never leave a sliver of a step
+                    step = dt - done
+            for j in range(nt):
+                y1[j] = y[j] + step * rate[j]
+            rigid_rate_nb(y1, area, face_len, sin_f, k_lub, rate)
+            for j in range(nt):
+                y2[j] = 0.75 * y[j] + 0.25 * (y1[j] + step * rate[j])
+            rigid_rate_nb(y2, area, face_len, sin_f, k_lub, rate)
+            for j in range(nt):
+                y[j] = y[j] / 3.0 + 2.0 / 3.0 * (y2[j] + step * rate[j])
+            ev += evaporate_line_nb(y, evaporation * step, area)
+            done = dt if last else done + step
+            n += 1
+        h[:, k] = y
+        substeps[k] = n
+        evaporated[k] = ev
 
 
 @njit(**_JIT)

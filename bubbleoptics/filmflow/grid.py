@@ -38,7 +38,7 @@ class FilmGrid:
     >>> g = FilmGrid(8, 16, 0.04)
     >>> bool(abs(g.area.sum() * g.n_phi / (4 * np.pi * 0.04**2) - 1) < 1e-14)
     True
-    >>> g.theta_face_length[0], g.theta_face_length[-1]
+    >>> float(g.theta_face_length[0]), float(g.theta_face_length[-1])
     (0.0, 0.0)
     """
 

@@ -25,7 +25,7 @@ __all__ = ["FilmState", "RigidDrainage", "PlugFlow", "smooth_perturbation"]
 DEFAULT_GRID = (64, 128)
 #: Courant number of the explicit rigid-drainage substeps (SSP-RK3 is monotone up to 1)
 RIGID_CFL = 0.9
-#: at most this many substeps in one rigid-drainage step (a larger dt is refused)
+#: at most this many substeps in one rigid-drainage step (a step that needs more is refused)
 MAX_SUBSTEPS = 100_000
 
 
@@ -220,15 +220,16 @@ class RigidDrainage(_FilmModel):
         self._check_state(state)
         dt = self._check_dt(dt)
         h = np.array(state.h, dtype=float, order="C")
-        rate = K._rigid_max_rate_nb(h, self._area, self._theta_len, self._sin_f, self._k_lub)
-        if rate * dt / RIGID_CFL > MAX_SUBSTEPS:
-            raise ValueError(f"dt must be <= {MAX_SUBSTEPS * RIGID_CFL / rate:.4g} s for this state "
-                             f"(at most {MAX_SUBSTEPS} explicit substeps; got {dt:g})")
-        n, evaporated = K.rigid_step_nb(h, dt, self._area, self._theta_len, self._sin_f, self._k_lub,
-                                        self.params.evaporation, RIGID_CFL, MAX_SUBSTEPS)
-        if n < 0:
-            raise RuntimeError(f"rigid drainage needed more than {MAX_SUBSTEPS} substeps in one step of {dt:g} s")
-        return FilmState(time=state.time + dt, h=h, evaporated=state.evaporated + evaporated, substeps=n)
+        nph = self.grid.n_phi
+        substeps = np.empty(nph, dtype=np.int64)
+        evaporated = np.empty(nph)
+        K.rigid_step_nb(h, dt, self._area, self._theta_len, self._sin_f, self._k_lub, self.params.evaporation,
+                        RIGID_CFL, MAX_SUBSTEPS, substeps, evaporated)
+        if substeps.min() < 0:
+            raise ValueError(f"dt = {dt:g} s is too long for this state: it needs more than {MAX_SUBSTEPS} explicit "
+                             f"substeps; use a shorter dt")
+        return FilmState(time=state.time + dt, h=h, evaporated=state.evaporated + math.fsum(evaporated),
+                         substeps=int(substeps.max()))
 
 
 class PlugFlow(_FilmModel):
