@@ -73,13 +73,13 @@ def cyclic_tridiagonal_solve_nb(a, b, c, d, x, cp, dp, z, n):
 
 @njit(**_JIT)
 def rigid_rate_nb(h, area, face_len, sin_f, k_lub, out):
-    """:math:`\partial h/\partial t` of rigid-interface drainage on one θ column, first-order
+    """:math:`\\partial h/\\partial t` of rigid-interface drainage on one θ column, first-order
     upwind finite volume.
 
-    Face flux (volume per time through a θ face): :math:`F_{i} = \ell_i\,K\sin\theta_i\,h_{i-1}^3`,
-    :math:`K = \rho g/(12\mu)` (*k_lub*, m⁻¹ s⁻¹), upwind because gravity drains towards +θ
+    Face flux (volume per time through a θ face): :math:`F_{i} = \\ell_i\\,K\\sin\\theta_i\\,h_{i-1}^3`,
+    :math:`K = \\rho g/(12\\mu)` (*k_lub*, m⁻¹ s⁻¹), upwind because gravity drains towards +θ
     (down); :math:`F = 0` on the poles.  ``out[j] = (F_j - F_{j+1}) / A_j``.  Returns the largest
-    :math:`\partial F_{j+1}/\partial h_j / A_j` (s⁻¹): forward Euler (and SSP-RK3) with these
+    :math:`\\partial F_{j+1}/\\partial h_j / A_j` (s⁻¹): forward Euler (and SSP-RK3) with these
     fluxes is monotone and keeps h >= 0 for dt x that <= 1.
     """
     nt = h.shape[0]
