@@ -60,6 +60,21 @@ def load_film_map(full: Path) -> np.ndarray:
     return np.ascontiguousarray(table)
 
 
+def load_film_series(full: Path):
+    """A simulated film's thickness series: a ``.npz`` written by
+    :meth:`bubbleoptics.filmflow.ThicknessSeries.save` (``bubbleoptics.filmflow``)."""
+    from bubbleoptics.filmflow import ThicknessSeries
+
+    if full.suffix.lower() != ".npz":
+        raise AssetError(f"a film's thickness series is a .npz file (ThicknessSeries.save), got '{full.name}'")
+    try:
+        return ThicknessSeries.load(full)
+    except ValueError as exc:
+        raise AssetError(str(exc).replace(str(full), full.name)) from None
+    except (OSError, EOFError, KeyError) as exc:  # not a zip, truncated, ...
+        raise AssetError(f"cannot read '{full.name}' as a thickness series ({type(exc).__name__}: {exc})") from None
+
+
 def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """Vertices (V, 3) float64, 0-based faces (F, 3) int64 and vertex normals (V, 3) float64 or
     ``None`` of a mesh file, read by trimesh.

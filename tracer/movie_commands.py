@@ -654,8 +654,9 @@ class Timeline:
 
     # -- time and frames ------------------------------------------------------------------
     def time(self, seconds):
-        """Advance the film's time by *seconds* >= 0 over the next ``render`` (recorded in each
-        frame's :attr:`Frame.time`; evolving films are a later issue)."""
+        """Advance the film's time by *seconds* >= 0 over the next ``render`` (each frame's
+        :attr:`Frame.time`): a simulated film (:mod:`tracer.simulated`) shows its series that
+        much later than its own ``time``."""
         v = _finite(seconds, "the time")
         if v < 0:
             raise ValueError(f"the time must be >= 0 seconds, got {v:g}")
@@ -694,11 +695,15 @@ class Timeline:
         return len(self._pending)
 
     def scenes(self):
-        """Yield ``(scene, time)`` for every frame, in order."""
+        """Yield ``(scene, time)`` for every frame, in order: the scene as the frame shows it
+        (its simulated films as the maps they show at the film time, popped bubbles gone:
+        :func:`tracer.simulated.resolve_simulated_films`) and the film time in seconds."""
+        from .simulated import resolve_simulated_films
+
         for start, changes, count, _ in self._segments:
             for k in range(1, count + 1):
                 st = _apply(start, changes, k / count)
-                yield st.scene, st.time
+                yield resolve_simulated_films(st.scene, st.time), st.time
 
     def frames(self, settings=None, display=None, spectral=False) -> list[Frame]:
         """One :class:`Frame` per image, each with a copy of *settings* (resolved render
@@ -712,13 +717,9 @@ class Timeline:
             from .render import resolve_settings
 
             settings = resolve_settings(self._start.scene)
-        out = []
-        for start, changes, count, line in self._segments:
-            for k in range(1, count + 1):
-                st = _apply(start, changes, k / count)
-                out.append(Frame(len(out), st.scene, dict(settings), st.time, line,
-                                 dict(display or {"exposure": 0.0, "view": "clip"}), bool(spectral)))
-        return out
+        lines = [line for _, _, count, line in self._segments for _ in range(count)]
+        return [Frame(i, scene, dict(settings), time, line, dict(display or {"exposure": 0.0, "view": "clip"}),
+                      bool(spectral)) for i, ((scene, time), line) in enumerate(zip(self.scenes(), lines))]
 
 
 def _apply(start: _State, changes, t) -> _State:

@@ -138,6 +138,10 @@ def film_thickness_bound_nm(film) -> float:
         base = max(float(film.top_nm), float(film.bottom_nm))
     elif film.kind == "map":
         base = float(np.max(film.table)) if film.table is not None and np.size(film.table) else 0.0
+    elif film.kind == "simulated":
+        from .simulated import sampled_film
+
+        return film_thickness_bound_nm(sampled_film(film))
     else:
         raise ValueError(f"unknown film kind {film.kind!r}")
     return max(base, 0.0) * (1.0 + abs(float(film.swirl)))
@@ -337,6 +341,9 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     ``"auto"`` chooses between them (:func:`resolve_spectral_method`).
     ``PackedScene.band_mode`` records the choice.
     """
+    from .simulated import resolve_simulated_films
+
+    scene = resolve_simulated_films(scene)  # simulated films as the maps they show (popped bubbles gone)
     check_magnitudes(scene)
     spectral_method = resolve_spectral_method(scene, spectral_samples, spectral_method)
     spectral = bool(scene.bubbles) if force_spectral is None else bool(force_spectral)

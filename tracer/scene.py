@@ -93,6 +93,10 @@ class FilmProfile:
     parameters), with optional swirl noise of relative amplitude ``swirl``.
     kind ``"map"``: a (Nθ, Nφ) array in nm over polar angle θ in [0, π] (from ``up``) and azimuth
     φ in [0, 2π), bilinearly interpolated.
+    kind ``"simulated"``: a film-flow simulation's thickness series (``series``, a
+    :class:`bubbleoptics.filmflow.ThicknessSeries`) shown at film time ``time_s`` (s), drawn as
+    the map of that moment; ``rupture_nm`` > 0 pops the bubble once the film is thinner than
+    that anywhere (:mod:`tracer.simulated`).
     """
 
     kind: str = "uniform"
@@ -105,6 +109,9 @@ class FilmProfile:
     seed: int = 0
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     table: np.ndarray | None = None
+    series: object | None = None  # kind "simulated": a bubbleoptics.filmflow.ThicknessSeries
+    time_s: float = 0.0
+    rupture_nm: float = 0.0
 
 
 @dataclass

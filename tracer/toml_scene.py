@@ -36,7 +36,7 @@ import tomli_w
 
 from bubbleoptics.colorimetry import srgb_to_linear_srgb
 
-from .assets import AssetError, load_environment_image, load_film_map, load_mesh_file
+from .assets import AssetError, load_environment_image, load_film_map, load_film_series, load_mesh_file
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
 from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, MAX_INDEX, MAX_MAGNITUDE
@@ -339,6 +339,7 @@ _FILM_KEYS = {
     "uniform": {"kind", "thickness_nm"} | _SWIRL_KEYS,
     "draining": {"kind", "top_nm", "bottom_nm", "exponent"} | _SWIRL_KEYS,
     "map": {"kind", "path"} | _SWIRL_KEYS,
+    "simulated": {"kind", "path", "time", "rupture_nm"} | _SWIRL_KEYS,
 }
 _RENDER_INT = {k: LIMITS[k] for k in ("width", "height", "depth", "spp", "spectral_samples", "seed")}
 #: number keys: (lowest, highest or None)
@@ -579,7 +580,7 @@ def _film(c: _Ctx, kp, t) -> FilmProfile:
     kind = c.string(kp + ("kind",), t.get("kind", "uniform"))
     if kind not in _FILM_KEYS:
         raise c.bad(kp + ("kind",), f"must be one of {', '.join(map(repr, _FILM_KEYS))}, got '{kind}'")
-    c.keys(kp, t, _FILM_KEYS[kind], ("path",) if kind == "map" else (), f"a film of kind '{kind}'")
+    c.keys(kp, t, _FILM_KEYS[kind], ("path",) if kind in ("map", "simulated") else (), f"a film of kind '{kind}'")
     f = FilmProfile(kind=kind)
     nm = dict(lo=0.0)
     if "thickness_nm" in t:
@@ -601,6 +602,13 @@ def _film(c: _Ctx, kp, t) -> FilmProfile:
     if kind == "map":
         pkp = kp + ("path",)
         f.table = c.asset(pkp, load_film_map, c.file(pkp, t["path"]))
+    if kind == "simulated":
+        pkp = kp + ("path",)
+        f.series = c.asset(pkp, load_film_series, c.file(pkp, t["path"]))
+        if "time" in t:
+            f.time_s = c.number(kp + ("time",), t["time"], 0.0)
+        if "rupture_nm" in t:
+            f.rupture_nm = c.number(kp + ("rupture_nm",), t["rupture_nm"], 0.0)
     return f
 
 

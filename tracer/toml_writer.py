@@ -91,6 +91,10 @@ def _film_dict(b, i, save_array) -> dict:
         if f.table is None:
             raise ValueError(f"bubble {b.name!r}: a film map without a table")
         fd.update(path=save_array(np.asarray(f.table), f"bubble{i}.film"))
+    elif f.kind == "simulated":
+        if f.series is None:
+            raise ValueError(f"bubble {b.name!r}: a simulated film without a series")
+        fd.update(path=save_array(f.series, f"bubble{i}.film"), time=f.time_s, rupture_nm=f.rupture_nm)
     else:
         raise ValueError(f"bubble {b.name!r}: unknown film kind {f.kind!r}")
     default = FilmProfile()
@@ -115,9 +119,15 @@ def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header:
     toml_path = Path(toml_path) if toml_path is not None else None
 
     def save_array(arr, suffix):
+        """Save *arr* beside the TOML file: an array as ``.npy``, a thickness series as its own
+        ``.npz`` (:meth:`bubbleoptics.filmflow.ThicknessSeries.save`); returns the file's name."""
         if toml_path is None:
-            raise ValueError("this scene holds an array (image environment or thickness map):"
-                             " give toml_path so it can be saved as .npy beside the TOML file")
+            raise ValueError("this scene holds an array (image environment, thickness map or series):"
+                             " give toml_path so it can be saved beside the TOML file")
+        if not isinstance(arr, np.ndarray):  # a ThicknessSeries
+            name = f"{toml_path.stem}.{suffix}.npz"
+            arr.save(toml_path.parent / name)
+            return name
         name = f"{toml_path.stem}.{suffix}.npy"
 
         def write(tmp):
