@@ -254,10 +254,3 @@ def test_fuzz_contract(tmp_path):
     assert not failures, "\n".join(failures[:20])
 
 
-@pytest.mark.parametrize("option", [["--exposure", "1"], ["--view", "aces"], ["--spectral-out", "s.npz"]])
-def test_movie_refuses_the_display_options_it_does_not_apply(tmp_path, capsys, option):
-    out = tmp_path / "m.gif"
-    status, err = _run(["movie", str(out), str(ROOT / "data" / "movies" / "builtin_orbit.txt"), "--quiet"] + option,
-                       capsys)
-    assert status == 2 and len(err) == 1 and option[0] in err[0] and "not supported for movies" in err[0]
-    assert list(tmp_path.iterdir()) == []
