@@ -25,6 +25,8 @@ Imported by name (``from bubbleoptics.study import stability``):
 * :mod:`.tradeoffs` -- run time against error of the tracer's settings (``benchmarks/time_vs_error.py``);
 * :mod:`.film_colour` -- the published approaches the band-limited colour is compared with
   (``benchmarks/bandlimited_colour.py``);
+* :mod:`.film_flow` -- living films (``notebooks/07_film_flow.ipynb``): the first-order colour
+  range, a lookup table in OPD steps, black-film times;
 * :mod:`.reference` -- slow, literal, independent references (mpmath at 40 digits, tmm); needs
   the ``test`` extra.
 

@@ -1,0 +1,151 @@
+"""Small analyses of living films (issue 11) shared by ``notebooks/07_film_flow.ipynb`` and its test.
+
+* :func:`film_luminance`: the luminance (CIE Y, a perfect reflector = 1) a free-standing film
+  reflects, from the exact spectrum (:func:`bubbleoptics.film_reflectance`);
+* :func:`first_order_range`: where a luminance-against-thickness curve is black, where its first
+  maximum (the first-order white) lies and where the first order ends (the first minimum after
+  it: the first-order purple, where green is cancelled);
+* :func:`opd_table_luminance`: a lookup table emulated in the simplest way, the film's luminance
+  tabulated every *step* nm of optical path difference (OPD = 2 n d at normal incidence) and
+  interpolated linearly, to see what the interpolation does to thin (black) films;
+* :func:`first_crossing` and :func:`rigid_black_time`: when a thickness first goes below a
+  threshold, in a simulated series and by the rigid-drainage apex law
+  :math:`h_0 (1 + t/\\tau)^{-1/2}`.
+
+Units: thickness in nm, times in s, angles in radians.  NumPy only (plus
+:mod:`bubbleoptics` inside :func:`film_luminance` and :func:`opd_table_luminance`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "film_luminance",
+    "FirstOrder",
+    "first_order_range",
+    "opd_table_luminance",
+    "first_crossing",
+    "rigid_black_time",
+]
+
+
+def film_luminance(thickness_nm, theta=0.0, n_film=None, illuminant="D65"):
+    """Reflected luminance Y of a free-standing film (exact Airy spectrum, 360-780 nm every 1 nm,
+    CIE 1931 2°), Y = 1 for a perfect reflector under *illuminant* (``None``: equal energy E).
+    *n_film* None is water (dispersive).  Shape of *thickness_nm*.
+
+    >>> round(float(film_luminance(0.0)), 12)
+    0.0
+    """
+    import bubbleoptics as bo
+    from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM as WL
+
+    d = np.asarray(thickness_nm, dtype=float)
+    spectra = bo.film_reflectance(WL, d[..., None], theta, n_film)
+    return spectra @ bo.spectral_weights(WL, illuminant=illuminant)[1]
+
+
+@dataclass(frozen=True)
+class FirstOrder:
+    """The first interference order of a luminance curve Y(d) (nm): ``black_below_nm`` (the
+    thinnest thickness where Y reaches ``black_fraction`` of the first maximum; thinner is
+    black), ``peak_nm`` (the first maximum, the first-order white), ``end_nm`` (the first minimum
+    after it, where the first order ends), ``peak_Y`` and ``end_Y`` (the luminances there)."""
+
+    black_below_nm: float
+    peak_nm: float
+    end_nm: float
+    peak_Y: float
+    end_Y: float
+    black_fraction: float
+
+
+def first_order_range(thickness_nm, luminance, black_fraction=0.05):
+    """The first order of a sampled luminance curve (*thickness_nm* increasing from 0, *luminance*
+    of the same length): the first local maximum, the first local minimum after it and, before
+    the maximum, where Y first reaches *black_fraction* of it (linear interpolation between
+    samples).  Extrema are the samples themselves (so they are as precise as the sampling).
+
+    >>> d = np.linspace(0.0, 500.0, 5001)
+    >>> fo = first_order_range(d, np.sin(2 * np.pi * 1.33 * d / 550.0) ** 2)
+    >>> round(fo.peak_nm, 1), round(fo.end_nm, 1), round(550 / (4 * 1.33), 1), round(550 / (2 * 1.33), 1)
+    (103.4, 206.8, 103.4, 206.8)
+    """
+    d = np.asarray(thickness_nm, dtype=float)
+    y = np.asarray(luminance, dtype=float)
+    if d.ndim != 1 or y.shape != d.shape or d.size < 3 or np.any(np.diff(d) <= 0):
+        raise ValueError("thickness_nm must be 1-D, increasing, with >= 3 samples, and luminance of its shape")
+    if not 0.0 < black_fraction < 1.0:
+        raise ValueError(f"black_fraction must be in (0, 1) (got {black_fraction!r})")
+    rising = np.diff(y) > 0
+    falls = np.flatnonzero(rising[:-1] & ~rising[1:])  # y[i+1] is a local maximum
+    if falls.size == 0:
+        raise ValueError("the luminance has no local maximum in the range")
+    i_peak = int(falls[0]) + 1
+    after = rising[i_peak:]
+    rises = np.flatnonzero(~after[:-1] & after[1:])
+    if rises.size == 0:
+        raise ValueError("the luminance has no minimum after its first maximum in the range")
+    i_end = i_peak + int(rises[0]) + 1
+    level = black_fraction * y[i_peak]
+    j = int(np.flatnonzero(y[: i_peak + 1] >= level)[0])
+    if j == 0:
+        black = d[0]
+    else:
+        black = d[j - 1] + (level - y[j - 1]) * (d[j] - d[j - 1]) / (y[j] - y[j - 1])
+    return FirstOrder(float(black), float(d[i_peak]), float(d[i_end]), float(y[i_peak]), float(y[i_end]),
+                      float(black_fraction))
+
+
+def opd_table_luminance(thickness_nm, step_opd_nm, n_film=1.33, illuminant=None, n_nodes=None):
+    """The film's luminance read from a table: exact :func:`film_luminance` (constant index
+    *n_film*, normal incidence) at the nodes OPD_k = k x *step_opd_nm* (thickness
+    OPD_k / (2 n)), linearly interpolated at *thickness_nm*.  *n_nodes* defaults to enough nodes
+    to cover the thickest film asked for.  Exact at the nodes; between them it misses the
+    curvature of Y (near d = 0, Y grows as d², so the chord is too bright).
+
+    >>> d = 18.7 / (2 * 1.33) * np.arange(3)  # three nodes: the table is exact there
+    >>> bool(np.allclose(opd_table_luminance(d, 18.7), film_luminance(d, n_film=1.33, illuminant=None)))
+    True
+    """
+    d = np.asarray(thickness_nm, dtype=float)
+    step_d = float(step_opd_nm) / (2.0 * float(n_film))
+    if n_nodes is None:
+        n_nodes = int(np.ceil(d.max() / step_d)) + 2
+    nodes = step_d * np.arange(n_nodes)
+    table = film_luminance(nodes, 0.0, n_film, illuminant)
+    return np.interp(d, nodes, table)
+
+
+def first_crossing(times, values, threshold):
+    """The first time a sampled curve *values*(*times*) goes below *threshold*, linearly
+    interpolated between the two samples around the crossing; ``nan`` if it never does (and
+    *times*[0] if it starts below).
+
+    >>> first_crossing([0.0, 10.0, 20.0], [100.0, 50.0, 0.0], 30.0)
+    14.0
+    """
+    t = np.asarray(times, dtype=float)
+    v = np.asarray(values, dtype=float)
+    below = np.flatnonzero(v < threshold)
+    if below.size == 0:
+        return float("nan")
+    i = int(below[0])
+    if i == 0:
+        return float(t[0])
+    return float(t[i - 1] + (v[i - 1] - threshold) * (t[i] - t[i - 1]) / (v[i - 1] - v[i]))
+
+
+def rigid_black_time(h0_nm, tau_s, threshold_nm):
+    """The time the rigid-drainage apex law :math:`h_0(1 + t/\\tau)^{-1/2}` (no evaporation)
+    needs to thin from *h0_nm* to *threshold_nm*: :math:`\\tau((h_0/h)^2 - 1)` s.
+
+    >>> rigid_black_time(2000.0, 3000.0, 1000.0)  # half the thickness: (2^2 - 1) tau
+    9000.0
+    """
+    if not 0 < threshold_nm <= h0_nm:
+        raise ValueError(f"threshold_nm must be in (0, h0_nm] (got {threshold_nm!r})")
+    return float(tau_s * ((h0_nm / threshold_nm) ** 2 - 1.0))
