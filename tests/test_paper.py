@@ -83,6 +83,23 @@ def test_every_number_in_the_paper_is_a_macro(numbers):
     assert not missing, f"paper.tex uses macros that numbers.tex does not define: {missing}"
 
 
+def test_no_number_is_na_with_the_repositorys_data(numbers):
+    """Every input of make_numbers.py is in the repository, so no macro may fall back to n/a."""
+    na = sorted(name for name, text in numbers.items() if "NumberNA" in text)
+    assert not na, f"n/a with the repository's own data: {na}"
+
+
+@pytest.mark.parametrize("path", sorted(DERIVED.glob("*.csv")), ids=lambda p: p.name)
+def test_every_derived_csv_names_its_writer_machine_and_date(path):
+    """The first line of each benchmark output is bubbleoptics.study.provenance's header: the
+    script that wrote it, the date and the machine (what make_numbers.py reads back)."""
+    first = path.read_text(encoding="utf-8").splitlines()[0]
+    m = re.fullmatch(r"# written by (benchmarks/\w+\.py) on (\d{4}-\d{2}-\d{2}).*", first)
+    assert m, f"{path.name}: no provenance header, first line {first[:80]!r}"
+    assert (ROOT / m.group(1)).exists(), f"{path.name}: names {m.group(1)}, which does not exist"
+    assert re.search(r"[(;] ?([^,();]+), (\d+) (cores?|CPUs)", first), f"{path.name}: no machine in {first!r}"
+
+
 @pytest.mark.skipif(not (DERIVED / "optics_speed.csv").exists(), reason="no data/derived/optics_speed.csv")
 def test_optics_numbers_come_from_the_csv(numbers):
     lines = [ln for ln in (DERIVED / "optics_speed.csv").read_text().splitlines() if not ln.startswith("#")]

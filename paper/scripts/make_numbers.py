@@ -32,7 +32,7 @@ Sources, section by section:
 * ``documented``: tolerances the test suite enforces, read from the sentences of ``README.md``
   and the test modules' docstrings that state them (so the paper quotes what the repository
   says, and a changed bar shows up as n/a rather than as a stale number).
-* ``defaults``: the renderer's defaults, from the signature of :func:`tracer.render`, and the film
+* ``defaults``: the renderer's defaults, from :data:`tracer.DEFAULTS` (what :func:`tracer.render` uses), and the film
   thickness at which its default spectral method switches (:func:`bubbleoptics.point_sampling_limit_nm`).
 
 Two macros are flags for ``\\ifnum`` in the text (:data:`FLAGS`): they are 0 or 1, never n/a.
@@ -45,7 +45,6 @@ in mathematics).  Macro names are letters only (TeX control words).
 from __future__ import annotations
 
 import argparse
-import inspect
 import math
 import os
 import re
@@ -687,13 +686,13 @@ def defaults(dirs):
 
     import bubbleoptics as bo
 
-    params = inspect.signature(tracer.render).parameters
-    bands = params["spectral_samples"].default
+    defaults_ = tracer.DEFAULTS  # what tracer.render uses for an argument left at None
+    bands = defaults_["spectral_samples"]
     return {
         "DefaultBands": str(bands),
-        "DefaultThreshold": scientific(params["threshold"].default, 1),
-        "DefaultDepth": str(params["depth"].default),
-        "DefaultMethod": rf"\texttt{{{params['spectral_method'].default}}}",
+        "DefaultThreshold": scientific(defaults_["threshold"], 1),
+        "DefaultDepth": str(defaults_["depth"]),
+        "DefaultMethod": rf"\texttt{{{defaults_['spectral_method']}}}",
         "DefaultAliasLimitUm": significant(float(bo.point_sampling_limit_nm(bands)) / 1000, 2),
         "AutoSwitchUm": significant(float(bo.point_sampling_limit_nm(bands)) / tracer.pack.AUTO_FRINGE_BANDS
                                     / 1000, 2),
@@ -716,7 +715,7 @@ SECTIONS = {
     "timeerror": (["derived/time_vs_error.csv"], timeerror, TIMEERROR_MACROS),
     "peer": (["derived/peer_mitsuba.csv"], peer, PEER_MACROS),
     "documented": (["README.md", "tests/"], documented, DOCUMENTED_MACROS),
-    "defaults": (["tracer.render (signature)"], defaults, DEFAULTS_MACROS),
+    "defaults": (["tracer.DEFAULTS"], defaults, DEFAULTS_MACROS),
 }
 
 _NAME = re.compile(r"^[A-Za-z]+$")
