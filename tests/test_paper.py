@@ -7,7 +7,8 @@
   into a temporary copy of ``paper/`` through ``BUBBLEOPTICS_FIGURES_DIR``: every ``fig_*.py``
   must write its PDF and PNG.
 * With ``latexmk`` on the PATH that copy is built with ``latexmk -pdf``: the PDF must exist,
-  have more than three pages, and resolve every citation and reference.  Without LaTeX this test
+  have more than three pages, resolve every citation and reference, and (where ``pdffonts`` is
+  installed) embed no Type 3 bitmap font.  Without LaTeX this test
   is skipped (the Debian packages are named in ``paper/Makefile``).
 
 Nothing is written into the repository.
@@ -188,3 +189,8 @@ def test_paper_pdf_builds(built):
     assert _pages(pdf, log) > 3
     assert not re.search(r"Citation `[^']*' .*undefined", log), "unresolved citation"
     assert "There were undefined references" not in log
+    if shutil.which("pdffonts"):  # poppler-utils: a Type 3 font is a bitmap (e.g. a TS1 glyph without cm-super)
+        fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, timeout=60)
+        assert fonts.returncode == 0, fonts.stderr
+        type3 = [line for line in fonts.stdout.splitlines()[2:] if "Type 3" in line]
+        assert not type3, f"paper.pdf embeds Type 3 (bitmap) fonts: {type3}"

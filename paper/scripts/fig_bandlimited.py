@@ -158,11 +158,11 @@ def main(argv=None):
     axes["a"].set_ylim(FLOOR * 0.8, 600.0)  # head room for the legends
     axes["a"].set_yticks(10.0 ** np.arange(-3, 3))
     axes["a"].set_ylabel(r"$\Delta E_{00}$ against 1 nm (0.2 $\mu$m running max.)")
-    legend = dict(loc="upper right", fontsize=6, handlelength=1.5, columnspacing=0.8, handletextpad=0.4,
+    legend = dict(loc="upper right", fontsize=7, handlelength=1.5, columnspacing=0.8, handletextpad=0.4,
                   borderaxespad=0.2)
     axes["a"].legend(ncol=2, **legend)
     axes["c"].legend(ncol=1, **legend)
-    axes["c"].text(19.6, 1.12, r"$\Delta E_{00} = 1$", fontsize=6, color="0.35", ha="right", va="bottom")
+    axes["c"].text(19.6, 1.12, r"$\Delta E_{00} = 1$", fontsize=7, color="0.35", ha="right", va="bottom")
     for path in style.savefig(fig, "fig_bandlimited"):
         print(f"wrote {path}")
     return 0

@@ -84,7 +84,7 @@ def main(argv=None):
         else:
             a.set_ylabel("$(t - \\hat t)/t$ (%)")
             a.text(0.97, 0.05, f"$\\times$ fitted to $d \\leq {TRAIN_DEPTH}$", transform=a.transAxes, ha="right",
-                   va="bottom", fontsize=6)
+                   va="bottom", fontsize=7)
     for path in style.savefig(fig, "fig_depth_fits"):
         print(f"wrote {path}")
     return 0

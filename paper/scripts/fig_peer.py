@@ -69,13 +69,13 @@ def main(argv=None):
                     markerfacecolor="white" if ls != "-" else colors[ci], markeredgewidth=0.7)
             labelled = range(len(curve)) if which == "all" else [len(curve) - 1]
             for k in labelled:
-                ax.annotate(curve[k]["spp"], (t[k], e[k]), textcoords="offset points", xytext=offset, fontsize=5.5,
+                ax.annotate(curve[k]["spp"], (t[k], e[k]), textcoords="offset points", xytext=offset, fontsize=7,
                             color=colors[ci], ha="right" if offset[0] < 0 else "left")
         if ours_ref is not None:
             floor = float(ours_ref[metric])
             ax.axhline(floor, color="0.55", linestyle=":", linewidth=0.8)
             ax.annotate("ours vs Mitsuba, both converged", (0.02, floor), xycoords=("axes fraction", "data"),
-                        textcoords="offset points", xytext=(0, 2), fontsize=6, color="0.4")
+                        textcoords="offset points", xytext=(0, 2), fontsize=7, color="0.4")
         ax.set_xscale("log")
         ax.set_yscale("log")
         low, high = ax.get_ylim()

@@ -45,7 +45,7 @@ def main(argv=None):
         # the label in mathtext: cmr10 maps U+00B0 to a ligature glyph, so no literal degree sign
         plot_color_strip(sub, d_strip, np.deg2rad(deg), wavelengths_nm=wl,
                          label=f"${deg:g}^\\circ$\n$\\times{k:.3g}$")
-        sub.yaxis.label.set_fontsize(6)
+        sub.yaxis.label.set_fontsize(7)
         sub.tick_params(top=False, direction="out")
         sub.set_xlabel("")
     strips[0].tick_params(labelbottom=False)
