@@ -4,8 +4,8 @@ Run:  python paper/scripts/fig_peer.py [--quick]
 Reads ``data/derived/peer_mitsuba.csv`` (written by ``benchmarks/peer_mitsuba.py``, which needs
 the optional ``mitsuba`` package); writes ``fig_peer.pdf``/``.png``.
 
-(a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference, both against seconds per
-256x256 image (median of the runs, compilation excluded), log-log.  Ours: Whitted, exhaustive
+(a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference (one above the other, one
+column wide), both against seconds per 256x256 image (median of the runs, compilation excluded), log-log.  Ours: Whitted, exhaustive
 tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
 LLVM variant with the stratified and the independent sampler (1-4096 spp), scalar variant with
 the stratified sampler (1-1024 spp).  Numbers beside the points: samples per pixel (every point
@@ -53,8 +53,8 @@ def main(argv=None):
     sweep = [r for r in rows if r["role"] == "sweep"]
     ours_ref = next((r for r in rows if r["role"] == "reference" and r["renderer"] == "ours"), None)
 
-    fig = style.figure(width=style.PAGE_WIDTH, height=2.6)
-    axes = fig.subplots(1, 2)
+    fig = style.figure(width=style.COLUMN_WIDTH, height=4.6)  # one column (paper.tex: figure)
+    axes = fig.subplots(2, 1, sharex=True)
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
     panels = (("rmse", "RMSE (linear RGB)", "(a)"), ("mean_de00", r"mean $\Delta E_{00}$", "(b)"))
     for ax, (metric, ylabel, tag) in zip(axes, panels):
@@ -80,10 +80,12 @@ def main(argv=None):
         ax.set_yscale("log")
         low, high = ax.get_ylim()
         ax.set_ylim(low / 1.4, high)  # room for the labels of the last points
-        ax.set_xlabel("render time per image (s)")
         ax.set_ylabel(ylabel)
         ax.set_title(f"{tag} {ylabel} against the reference", loc="left")
         ax.grid(True, which="major")
+    left, right = axes[-1].get_xlim()
+    axes[-1].set_xlim(left, right * 2.5)  # room for the labels of the slowest points
+    axes[-1].set_xlabel("render time per image (s)")
     axes[0].legend(loc="upper right", frameon=False)
     reference = next((n for n in notes if n.startswith("reference")), "")
     if reference:
