@@ -34,7 +34,7 @@ DERIVED = ROOT / "data" / "derived"
 
 #: Control words of paper.tex that start with a capital and are not numbers.tex macros: LaTeX's
 #: own (section sign, Greek capitals, ...) and the paper's (\\R, \\T for reflectance, transmittance).
-NOT_NUMBERS = {"IfFileExists", "PackageError", "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
+NOT_NUMBERS = {"IfFileExists", "PackageError", "DeclareTextSymbolDefault", "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
                "AE", "OE", "TeX", "LaTeX", "Huge", "LARGE", "Large", "Delta", "Gamma", "Lambda", "Omega", "Phi",
                "Pi", "Psi", "Sigma", "Theta", "Upsilon", "Xi"}
 

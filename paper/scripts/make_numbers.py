@@ -116,6 +116,11 @@ def scientific(x: float, n: int = 2) -> str:
     return rf"\ensuremath{{{mantissa}\times10^{{{k}}}}}"
 
 
+def plain(x: float) -> str:
+    """A constant as the code writes it, shortest form ('5', '0.42', '1400'; ``format(x, 'g')``)."""
+    return format(float(x), "g")
+
+
 def _sci_or_plain(x: float, n: int = 2) -> str:
     """Plain decimals between 0.01 and 10 000, scientific otherwise."""
     return significant(x, n) if 0.01 <= abs(float(x)) < 1e4 else scientific(x, n)
@@ -390,14 +395,26 @@ ALIASING_MACROS = (
 )
 
 
+TWO_BEAM_WL_NM = (380.0, 780.0)  # the range over which the two-beam model's largest error is quoted
+TWO_BEAM_MAX_D_NM = 2000.0
+
+
 def physics(dirs):
     import numpy as np
 
     import bubbleoptics as bo
 
     out = {}
-    wl = np.arange(380.0, 781.0, 5.0)
-    d = np.linspace(0.0, 2000.0, 2001)[:, None]
+    wl = np.arange(TWO_BEAM_WL_NM[0], TWO_BEAM_WL_NM[1] + 1.0, 5.0)
+    d = np.linspace(0.0, TWO_BEAM_MAX_D_NM, 2001)[:, None]
+    out["TwoBeamWlMin"], out["TwoBeamWlMax"] = (plain(x) for x in TWO_BEAM_WL_NM)
+    out["TwoBeamMaxThicknessUm"] = plain(TWO_BEAM_MAX_D_NM / 1000)
+    import fig_thin_film  # the curve Fig. 1 draws: the two-beam error at one wavelength
+
+    _, _, _, gap, peak = fig_thin_film.two_beam_gap()
+    out["TwoBeamFigNm"] = plain(fig_thin_film.TWO_BEAM_NM)
+    out["TwoBeamErrFig"] = significant(gap, 2)
+    out["TwoBeamRelFig"] = significant(100 * gap / peak, 2)
     for deg, word in ((0, "Normal"), (60, "Sixty"), (75, "SeventyFive")):
         theta = np.deg2rad(deg)
         R = bo.film_reflectance(wl, d, theta)
@@ -419,7 +436,8 @@ def physics(dirs):
 
 
 PHYSICS_MACROS = (
-    [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
+    ["TwoBeamWlMin", "TwoBeamWlMax", "TwoBeamMaxThicknessUm", "TwoBeamFigNm", "TwoBeamErrFig", "TwoBeamRelFig"]
+    + [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
     + ["TwoBeamExampleDeg", "TwoBeamExampleExact", "TwoBeamExampleCoursework", "WaterRNormal"]
     + [f"WaterIndex{w}" for w in ("FourHundred", "FiveFifty", "SevenHundred")]
 )
@@ -451,39 +469,51 @@ def bandlimited(dirs):
         raise ValueError(f"expected one default weight degree, found {sorted(defaults)}")
     order = defaults.pop()
     out["BlOrder"] = order
+    m = re.search(r"n=([0-9.]+)", " ".join(r["note"] for r in rows if r["illuminant"] == "E"))
+    out["ConstIndex"] = m.group(1) if m else NA
+    m = re.search(r"_n(\d+)_", " ".join(r["method"] for r in rows))
+    out["NearIndexNm"] = m.group(1) if m else NA
+    # One convention for every film-colour difference the paper quotes (and fig_bandlimited.py and
+    # fig_stability.py draw): the colours exposed so that the brightest film of the reference is
+    # white, as a camera exposed for the bubble shows them (the CSV's *_exposed columns, the
+    # exposure in its "exposure" column; benchmarks/stability.py uses the same exposure).
+    exposed_gain = []
     for theta, word in ANGLE_WORDS.items():
-        for n_bands, bands in ((4, "Four"), (8, "Eight"), (16, "Sixteen")):
-            r = row("bandlimited", theta, n_bands, order)
-            out[f"Bl{bands}Max{word}"] = significant(r["dE00_max"], 2)
         r16 = row("bandlimited", theta, 16, order)
-        out[f"BlSixteenMedian{word}"] = significant(r16["dE00_median"], 2)
-        out[f"BlSixteenThinMax{word}"] = significant(r16["dE00_max_0_2um"], 2)
-        out[f"BlPointSixteenMax{word}"] = significant(row("point", theta, 16)["dE00_max"], 2)
-        out[f"BlPointSixteenThinMax{word}"] = significant(row("point", theta, 16)["dE00_max_0_2um"], 2)
-        out[f"BlBandMeanSixteenMax{word}"] = significant(row("band_mean", theta, 16, 6)["dE00_max"], 2)
-        out[f"BlFourEightMax{word}"] = significant(row("bandlimited", theta, 4, 8)["dE00_max"], 2)
-        gauss = row("gaussian_fit_BB2017", theta, illuminant="E")
-        out[f"GaussThinMedian{word}"] = significant(gauss["dE00_median_0_2um"], 2)
-        out[f"GaussMax{word}"] = significant(gauss["dE00_max"], 2)
-        out[f"GaussDispMax{word}"] = significant(row("gaussian_fit_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
-        out[f"LutMax{word}"] = scientific(row("lut_nondispersive", theta, illuminant="E")["dE00_max"], 1)
-        lut = row("lut_nondispersive_vs_dispersive", theta, illuminant="E")
-        out[f"LutDispMedian{word}"] = significant(lut["dE00_median"], 2)
-        out[f"LutDispMax{word}"] = significant(lut["dE00_max"], 2)
-        out[f"LutNearDispMax{word}"] = significant(
-            row("lut_nondispersive_n555_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
-        out[f"BlWaterMax{word}"] = significant(row("bandlimited_water", theta, 16, order, "E")["dE00_max"], 2)
-        # the same after the exposure that makes the brightest film white
         out[f"BlExposure{word}"] = significant(r16["exposure"], 2)
-        out[f"BlSixteenMaxExposed{word}"] = significant(r16["dE00_max_exposed"], 2)
-        out[f"BlEightMaxExposed{word}"] = significant(row("bandlimited", theta, 8, order)["dE00_max_exposed"], 2)
-        out[f"BlPointSixteenMaxExposed{word}"] = significant(row("point", theta, 16)["dE00_max_exposed"], 2)
-        out[f"GaussMaxExposed{word}"] = significant(gauss["dE00_max_exposed"], 2)
-        out[f"GaussThinMedianExposed{word}"] = significant(gauss["dE00_median_0_2um_exposed"], 2)
-        out[f"LutDispMaxExposed{word}"] = significant(lut["dE00_max_exposed"], 2)
-        out[f"LutBlenderMax{word}"] = significant(row("lut_blender_like", theta, illuminant="E")["dE00_max"], 2)
+        for n_bands, bands in ((4, "Four"), (8, "Eight"), (16, "Sixteen")):
+            out[f"Bl{bands}Max{word}"] = significant(row("bandlimited", theta, n_bands, order)["dE00_max_exposed"], 2)
+        out[f"BlSixteenThinMedian{word}"] = significant(r16["dE00_median_0_2um_exposed"], 2)
+        point = row("point", theta, 16)
+        out[f"BlPointSixteenMax{word}"] = significant(point["dE00_max_exposed"], 2)
+        out[f"BlPointSixteenThinMedian{word}"] = significant(point["dE00_median_0_2um_exposed"], 2)
+        band_mean = row("band_mean", theta, 16, 6)
+        out[f"BlBandMeanSixteenMax{word}"] = significant(band_mean["dE00_max_exposed"], 2)
+        out[f"BlFourEightMax{word}"] = significant(row("bandlimited", theta, 4, 8)["dE00_max_exposed"], 2)
+        gauss = row("gaussian_fit_BB2017", theta, illuminant="E")
+        out[f"GaussThinMedian{word}"] = significant(gauss["dE00_median_0_2um_exposed"], 2)
+        out[f"GaussMax{word}"] = significant(gauss["dE00_max_exposed"], 2)
+        out[f"GaussDispMax{word}"] = significant(
+            row("gaussian_fit_vs_dispersive", theta, illuminant="E")["dE00_max_exposed"], 2)
+        out[f"LutMax{word}"] = scientific(row("lut_nondispersive", theta, illuminant="E")["dE00_max_exposed"], 1)
+        lut = row("lut_nondispersive_vs_dispersive", theta, illuminant="E")
+        out[f"LutDispThinMedian{word}"] = significant(lut["dE00_median_0_2um_exposed"], 2)
+        out[f"LutDispMax{word}"] = significant(lut["dE00_max_exposed"], 2)
+        out[f"LutNearDispMax{word}"] = significant(
+            row("lut_nondispersive_n555_vs_dispersive", theta, illuminant="E")["dE00_max_exposed"], 2)
+        out[f"BlWaterMax{word}"] = significant(row("bandlimited_water", theta, 16, order, "E")["dE00_max_exposed"], 2)
+        out[f"LutBlenderMax{word}"] = significant(row("lut_blender_like", theta, illuminant="E")["dE00_max_exposed"], 2)
         out[f"LutBlenderDispMax{word}"] = significant(
-            row("lut_blender_like_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
+            row("lut_blender_like_vs_dispersive", theta, illuminant="E")["dE00_max_exposed"], 2)
+        # the same colours as reflected (dark) differ less: by how much, for the methods of panels (a), (b)
+        for r in (point, band_mean, r16, row("bandlimited", theta, 8, order)):
+            exposed_gain.append(r["dE00_max_exposed"] / r["dE00_max"])
+    # the worst over both angles (the abstract's numbers)
+    for key in ("BlSixteenMax", "BlPointSixteenMax"):
+        worst = max(float(out[f"{key}{w}"].replace(r"\,", "")) for w in ANGLE_WORDS.values())
+        out[f"{key}Worst"] = significant(worst, 2)
+    out["BlExposedGainMin"] = significant(min(exposed_gain), 2)
+    out["BlExposedGainMax"] = significant(max(exposed_gain), 2)
     ns = lambda r: 0.5 * sum(row(*r[:1], t, *r[1:])["ns_per_colour"] for t in ANGLE_WORDS)  # noqa: E731
     out["BlNsSixteen"] = significant(ns(("bandlimited", 16, order)), 2)
     out["BlNsPointSixteen"] = significant(ns(("point", 16)), 2)
@@ -492,13 +522,13 @@ def bandlimited(dirs):
 
 
 BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixteen", "BlNsPointSixteen",
-                      "BlNsReference"] + [
+                      "BlNsReference", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst", "BlPointSixteenMaxWorst", "BlExposedGainMin",
+                      "BlExposedGainMax"] + [
     f"{what}{w}" for what in (
-        "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenMedian", "BlSixteenThinMax", "BlPointSixteenMax",
-        "BlPointSixteenThinMax", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
-        "GaussDispMax", "LutMax", "LutDispMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax", "BlExposure",
-        "BlSixteenMaxExposed", "BlEightMaxExposed", "BlPointSixteenMaxExposed", "GaussMaxExposed",
-        "GaussThinMedianExposed", "LutDispMaxExposed", "LutBlenderMax", "LutBlenderDispMax")
+        "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenThinMedian", "BlPointSixteenMax",
+        "BlPointSixteenThinMedian", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
+        "GaussDispMax", "LutMax", "LutDispThinMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax", "BlExposure",
+        "LutBlenderMax", "LutBlenderDispMax")
     for w in ANGLE_WORDS.values()
 ]
 
@@ -523,6 +553,20 @@ def timeerror(dirs):
     out["TvERefSpp"] = str(int(ref["spp"]))
     out["TvERefDepth"] = str(int(ref["depth"]))
     out["TvETargetError"] = significant(tradeoffs.TARGET_MEAN_DE00, 1)
+    out["TvERefBands"] = str(int(ref["spectral_samples"]))
+    values = {}
+    for r in rows:
+        values.setdefault(r["factor"], set()).add(r["value"])
+    point = sorted(int(v) for v in values["spectral"] if v.isdigit())
+    averaged = sorted(int(v.split()[0]) for v in values["spectral"] if v.endswith(" band"))
+    out["TvEPointBands"] = ", ".join(map(str, point[:-1])) + f" and {point[-1]}"
+    out["TvEAveragedBandsMin"], out["TvEAveragedBandsMax"] = str(averaged[0]), str(averaged[-1])
+    thresholds = sorted(float(v) for v in values["threshold"])
+    out["TvEThresholdMin"], out["TvEThresholdMax"] = significant(thresholds[0], 1), significant(thresholds[-1], 1)
+    spp = sorted(int(v) for v in values["spp"])
+    out["TvESppMin"], out["TvESppMax"] = str(spp[0]), str(spp[-1])
+    depth = sorted(int(v) for v in values["depth"])
+    out["TvEDepthMin"], out["TvEDepthMax"] = str(depth[0]), str(depth[-1])
     out["TvETargetSpeedup"] = significant(tradeoffs.TARGET_SPEEDUP, 2)
     interior, allpix, speedup, on_front = [], [], [], []
     for scene, word in SCENE_WORDS.items():
@@ -578,6 +622,8 @@ def timeerror(dirs):
 
 TIMEERROR_MACROS = (
     ["TvEMachine", "TvEDate", "TvESize", "TvERefSpp", "TvERefDepth", "TvETargetError", "TvETargetSpeedup",
+     "TvERefBands", "TvEPointBands", "TvEAveragedBandsMin", "TvEAveragedBandsMax", "TvEThresholdMin",
+     "TvEThresholdMax", "TvESppMin", "TvESppMax", "TvEDepthMin", "TvEDepthMax",
      "TvEInteriorMax", "TvEAllMax", "TvESpeedupMin", "TvEDefaultsOnFront", "TvEDefaultsQualify", "TvETimingNoise"]
     + [f"TvE{what}{w}" for what in ("Interior", "All", "Speedup", "RefSeconds", "DefaultMs", "InteriorFraction")
        for w in SCENE_WORDS.values()]
@@ -593,6 +639,9 @@ PEER_CURVES = {
     "MitsubaIndependent": ("mitsuba", "llvm_ad_rgb", "independent"),
     "MitsubaScalar": ("mitsuba", "scalar_rgb", "stratified"),
 }
+
+
+PEER_TARGET_SPP = 4  # the error ours reaches at this many samples per pixel is the target (as the benchmark)
 
 
 def peer(dirs):
@@ -622,7 +671,12 @@ def peer(dirs):
     out["PeerOursRefSpp"] = str(int(oref["spp"]))
     out["PeerFloorRmse"] = scientific(float(oref["rmse"]), 2)
     out["PeerFloorDe"] = significant(float(oref["mean_de00"]), 2)
-    four = next(r for r in curves["OursExhaustive"] if int(r["spp"]) == 4)
+    four = next(r for r in curves["OursExhaustive"] if int(r["spp"]) == PEER_TARGET_SPP)
+    out["PeerTargetSpp"] = str(PEER_TARGET_SPP)
+    m = re.search(r"glass sphere n = ([0-9.]+)", " ".join(notes))
+    out["PeerGlassIndex"] = m.group(1) if m else NA
+    m = re.search(r"or ([0-9.e+-]+) \(pruned\)", " ".join(notes))
+    out["PeerPrunedThreshold"] = scientific(float(m.group(1)), 1) if m else NA
     for metric, tag in (("rmse", "Rmse"), ("mean_de00", "De")):
         target = float(four[metric])
         out[f"PeerTarget{tag}"] = scientific(target, 2) if metric == "rmse" else significant(target, 2)
@@ -640,7 +694,7 @@ def peer(dirs):
 
 
 PEER_MACROS = (
-    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse",
+    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerTargetSpp", "PeerGlassIndex", "PeerPrunedThreshold", "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse",
      "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe", "PeerSampleCostRatio", "PeerSampleCountRatio",
      "PeerMitsubaSppNeeded"]
     + [f"Peer{tag}{k}" for tag in ("Rmse", "De") for k in PEER_CURVES]
@@ -660,6 +714,13 @@ def documented(dirs):
     if not m:
         raise ValueError("README.md: the sentence 'measured worst: A and B' is gone")
     out["AccWorstAbs"], out["AccWorstRel"] = scientific(float(m.group(1)), 1), scientific(float(m.group(2)), 1)
+    bench = (root / "benchmarks" / "optics_speed.py").read_text(encoding="utf-8")
+    m = re.search(r"Sweep: (\d+) wavelengths \((\d+)-(\d+) nm every \d+ nm\) x (\d+) angles .*?x (\d+) thicknesses",
+                  bench, flags=re.DOTALL)
+    if not m:
+        raise ValueError("benchmarks/optics_speed.py: the sentence 'Sweep: N wavelengths (A-B nm ...) x ...' is gone")
+    (out["SweepWavelengths"], out["SweepWlMin"], out["SweepWlMax"], out["SweepAngles"],
+     out["SweepThicknesses"]) = m.groups()
     tests = root / "tests"
     patterns = {
         "TmmTol": ("test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
@@ -677,7 +738,7 @@ def documented(dirs):
     return out
 
 
-DOCUMENTED_MACROS = ["AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
+DOCUMENTED_MACROS = ["SweepWavelengths", "SweepWlMin", "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
                      "FilmColourTol", "HypothesisExamples"]
 
 
@@ -703,6 +764,68 @@ def defaults(dirs):
 DEFAULTS_MACROS = ["DefaultBands", "DefaultThreshold", "DefaultDepth", "DefaultMethod", "DefaultAliasLimitUm",
                    "AutoSwitchUm", "AutoFringeBands"]
 
+def constants(dirs):
+    """Constants of the code that the text quotes: the spectral grid, the aliasing onset's
+    definition, and the lookup tables of :mod:`bubbleoptics.study.film_colour` (the Blender-like
+    table's size and spacing are those of Blender's source, as that module's docstring cites)."""
+    import fig_bandlimited  # the running-maximum window its caption states
+    from bubbleoptics import colorimetry
+    from bubbleoptics.study import film_colour, stability
+
+    grid = colorimetry.DEFAULT_WAVELENGTHS_NM
+    return {
+        "MaxBands": str(colorimetry.MAX_BANDS),
+        "GridStepNm": plain(grid[1] - grid[0]),
+        "BandLowNm": plain(grid[0]),
+        "BandHighNm": plain(grid[-1]),
+        "BandSpanNm": plain(grid[-1] - grid[0]),
+        "OnsetDeltaE": plain(stability.ONSET_DE00),
+        "OnsetWindowUm": plain(stability.ONSET_WINDOW_NM / 1000),
+        "LutStepNm": plain(film_colour.LUT_STEP_NM),
+        "BlenderTableSize": str(film_colour.BLENDER_TABLE_SIZE),
+        "BlenderStepNm": significant(film_colour.BLENDER_STEP_NM, 3),
+        "BlenderMaxOpdUm": significant(film_colour.BLENDER_MAX_OPD_NM / 1000, 3),
+        "BlenderTerms": str(film_colour.BLENDER_TERMS),
+        "BlWindowUm": plain(fig_bandlimited.WINDOW_NM / 1000),
+    }
+
+
+CONSTANTS_MACROS = ["MaxBands", "GridStepNm", "BandLowNm", "BandHighNm", "BandSpanNm", "OnsetDeltaE",
+                    "OnsetWindowUm", "LutStepNm", "BlenderTableSize", "BlenderStepNm", "BlenderMaxOpdUm",
+                    "BlenderTerms", "BlWindowUm"]
+
+#: Facts from elsewhere that the text quotes: name -> (value, source).  The source is cited in the
+#: paper where the fact is used.
+FACTS = {
+    "BlenderGaussVersion": ("4.2", "Blender 4.2 LTS release notes: Cycles adds thin-film interference "
+                                   "(Belcour & Barla 2017); paper.tex cites it as \\citep{Blender}"),
+}
+
+
+def facts(dirs):
+    return {name: value for name, (value, _source) in FACTS.items()}
+
+
+def gallery(dirs):
+    """The settings of Fig. gallery, from ``fig_gallery.py`` and the scene it renders in panel (c)."""
+    import fig_gallery
+    import tracer
+
+    size, spp = fig_gallery.FULL
+    out = {"GallerySize": str(size), "GallerySpp": str(spp)}
+    for age, film in (("Young", fig_gallery.YOUNG), ("Old", fig_gallery.OLD)):
+        out[f"Gallery{age}TopNm"] = plain(film["top_nm"])
+        out[f"Gallery{age}BottomNm"] = plain(film["bottom_nm"])
+    out["GalleryYoungTopUm"] = plain(fig_gallery.YOUNG["top_nm"] / 1000)
+    out["GalleryYoungBottomUm"] = plain(fig_gallery.YOUNG["bottom_nm"] / 1000)
+    (bubble,) = tracer.load_scene(fig_gallery.SCENES / fig_gallery.MATERIALS_SCENE).bubbles
+    out["GalleryMaterialsFilmNm"] = plain(bubble.film.thickness_nm)
+    return out
+
+
+GALLERY_MACROS = ["GallerySize", "GallerySpp", "GalleryYoungTopNm", "GalleryYoungBottomNm", "GalleryOldTopNm",
+                  "GalleryOldBottomNm", "GalleryYoungTopUm", "GalleryYoungBottomUm", "GalleryMaterialsFilmNm"]
+
 #: name -> (inputs (relative to the data folders, for the warning), function, macro names)
 SECTIONS = {
     "optics": (["derived/optics_speed.csv"], optics, OPTICS_MACROS),
@@ -716,6 +839,9 @@ SECTIONS = {
     "peer": (["derived/peer_mitsuba.csv"], peer, PEER_MACROS),
     "documented": (["README.md", "tests/"], documented, DOCUMENTED_MACROS),
     "defaults": (["tracer.DEFAULTS"], defaults, DEFAULTS_MACROS),
+    "constants": (["bubbleoptics (constants)"], constants, CONSTANTS_MACROS),
+    "facts": (["FACTS (sources beside each)"], facts, list(FACTS)),
+    "gallery": (["paper/scripts/fig_gallery.py", "data/scenes/"], gallery, GALLERY_MACROS),
 }
 
 _NAME = re.compile(r"^[A-Za-z]+$")
