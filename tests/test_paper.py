@@ -101,6 +101,41 @@ def test_every_derived_csv_names_its_writer_machine_and_date(path):
     assert re.search(r"[(;] ?([^,();]+), (\d+) (cores?|CPUs)", first), f"{path.name}: no machine in {first!r}"
 
 
+#: A number followed by a unit or a count noun (nm, µm, s, %, bands, pixels, ...): in the prose such a
+#: number is a result, a setting or a constant of the code, so it must come from numbers.tex.
+TYPED_WITH_UNIT = re.compile(
+    r"(?<![\\\w{.])\d+(?:\.\d+)?(?:--\d+(?:\.\d+)?)?(?:\\,|~|\s)*"
+    r"(?:nm\b|\\um|ms\b|ns\b|s\b|\\%|bands?\b|entries\b|samples?\b|pixels?\b|times\b|-fold|digits?\b|-digit)")
+
+
+def prose(tex):
+    """The text of the document body that is neither a comment, mathematics, nor a reference,
+    citation, label or \\code{} argument."""
+    body = tex[tex.index(r"\begin{document}"):]
+    body = re.sub(r"(?<!\\)%.*", "", body)
+    body = re.sub(r"\\begin\{(equation|align)\*?\}.*?\\end\{\1\*?\}", " ", body, flags=re.DOTALL)
+    body = re.sub(r"\$[^$]*\$", " ", body)
+    return re.sub(r"\\(ref|eqref|label|cite[pt]?|citealp|code)\*?(\[[^]]*\])?\{[^}]*\}", " ", body)
+
+
+def test_prose_filter_finds_typed_numbers():
+    tex = (r"\begin{document} with 421 bands (512 entries, 18.7\,nm) at 0.42\,\um{} in 3.2\,s, 7\,\%;"
+           r" ok: \MaxBands{} bands, $16$ bands in math, listing~3.2, Fig.~\ref{fig:1} % 5 nm in a comment")
+    found = [m.group(0) for m in TYPED_WITH_UNIT.finditer(prose(tex))]
+    assert found == ["421 bands", "512 entries", "18.7\\,nm", "0.42\\,\\um", "3.2\\,s", "7\\,\\%"]
+
+
+def test_no_number_with_a_unit_is_typed_in_the_prose(numbers):
+    """Results, settings and constants in the text are macros (numbers.tex), not typed: no number
+    with a unit or a count noun outside mathematics, and no machine name typed where a macro has it."""
+    text = prose((PAPER / "paper.tex").read_text(encoding="utf-8"))
+    typed = sorted({m.group(0) for m in TYPED_WITH_UNIT.finditer(text)})
+    assert not typed, f"typed numbers in paper.tex (make them macros of make_numbers.py): {typed}"
+    for name, value in numbers.items():
+        if name.endswith("Machine") and "NumberNA" not in value:
+            assert value.replace(r"\_", "_") not in text.replace(r"\_", "_"), f"{value!r} typed; use \\{name}"
+
+
 @pytest.mark.skipif(not (DERIVED / "optics_speed.csv").exists(), reason="no data/derived/optics_speed.csv")
 def test_optics_numbers_come_from_the_csv(numbers):
     lines = [ln for ln in (DERIVED / "optics_speed.csv").read_text().splitlines() if not ln.startswith("#")]

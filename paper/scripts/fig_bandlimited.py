@@ -45,6 +45,7 @@ from bubbleoptics.study.film_colour import bb_film_XYZ, lut_film_XYZ, lut_table
 
 CSV = paths.DERIVED / "bandlimited_colour.csv"
 WINDOW_NM = 200.0  # running maximum over this window of thickness
+EXPOSURE_MAX_NM = 1000.0  # the exposure whitens the brightest film up to this thickness (as the benchmark)
 FLOOR = 1e-3
 TOLERANCE = 0.05  # relative, curve maximum against the CSV's dE00_max (full mode)
 N_CONST = 1.33
@@ -77,8 +78,8 @@ def envelope(d, e, window=WINDOW_NM):
 
 
 def exposure(d, XYZ):
-    """The exposure that makes the brightest reference film of 0-1 µm white: 1 / its largest Y."""
-    return 1.0 / XYZ[d <= 1000.0, 1].max()
+    """The exposure that makes the brightest reference film up to EXPOSURE_MAX_NM white: 1 / its largest Y."""
+    return 1.0 / XYZ[d <= EXPOSURE_MAX_NM, 1].max()
 
 
 def delta_e(XYZ, ref, d, illuminant):

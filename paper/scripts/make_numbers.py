@@ -45,6 +45,7 @@ in mathematics).  Macro names are letters only (TeX control words).
 from __future__ import annotations
 
 import argparse
+import inspect
 import math
 import os
 import re
@@ -364,11 +365,15 @@ GRAZING_MACROS = ["GrazingUMax", "GrazingFilms", "GrazingOursRelT", "GrazingOurs
 BANDS = {4: "Four", 8: "Eight", 16: "Sixteen", 32: "ThirtyTwo", 81: "EightyOne"}
 
 
+ALIAS_THIN_NM = 2000.0  # "thin films": below this thickness (the saturated low orders)
+
+
 def aliasing(dirs):
     _, rows = read_commented_csv(dirs["derived"] / "stability_aliasing.csv")
     out = {}
     thick = [_float(r["thickness_nm"]) for r in rows]
     out["AliasMaxThicknessUm"] = significant(max(thick) / 1000, 2)
+    out["AliasThinMaxUm"] = plain(ALIAS_THIN_NM / 1000)
     for n, word in BANDS.items():
         sel = [r for r in rows if r["method"] == "point" and int(float(r["n_bands"])) == n]
         if not sel:
@@ -376,7 +381,7 @@ def aliasing(dirs):
             continue
         out[f"AliasOnset{word}"] = significant(_float(sel[0]["onset_measured_nm"]) / 1000, 2)
         out[f"AliasPredicted{word}"] = significant(_float(sel[0]["onset_pred_400_nm"]) / 1000, 2)
-        below = [_float(r["dE00"]) for r in sel if _float(r["thickness_nm"]) < 2000]
+        below = [_float(r["dE00"]) for r in sel if _float(r["thickness_nm"]) < ALIAS_THIN_NM]
         out[f"AliasMaxTwoUm{word}"] = significant(max(below), 2) if below else NA
         out[f"AliasMaxAll{word}"] = significant(max(_float(r["dE00"]) for r in sel), 2)
     any_band = False
@@ -389,7 +394,7 @@ def aliasing(dirs):
 
 
 ALIASING_MACROS = (
-    ["AliasMaxThicknessUm", "BandlimitedAvailable"]
+    ["AliasMaxThicknessUm", "AliasThinMaxUm", "BandlimitedAvailable"]
     + [f"Alias{what}{w}" for what in ("Onset", "Predicted", "MaxTwoUm", "MaxAll") for w in BANDS.values()]
     + [f"BandlimitedMax{w}" for w in BANDS.values()]
 )
@@ -397,6 +402,8 @@ ALIASING_MACROS = (
 
 TWO_BEAM_WL_NM = (380.0, 780.0)  # the range over which the two-beam model's largest error is quoted
 TWO_BEAM_MAX_D_NM = 2000.0
+TWO_BEAM_EXAMPLE = (1.2, 550.0, 150.0)  # the worked example: angle (rad), wavelength and film thickness (nm)
+WATER_INDEX_AT = ((400.0, "FourHundred"), (550.0, "FiveFifty"), (700.0, "SevenHundred"))  # nm, macro suffix
 
 
 def physics(dirs):
@@ -423,13 +430,15 @@ def physics(dirs):
         out[f"TwoBeamErr{word}"] = significant(err.max(), 2)
         out[f"TwoBeamPeak{word}"] = significant(R.max(), 2)
         out[f"TwoBeamRel{word}"] = significant(100 * err.max() / R.max(), 2)
-    theta = 1.2
+    theta, wl_x, d_x = TWO_BEAM_EXAMPLE  # s light, radians, nm, nm
     out["TwoBeamExampleDeg"] = significant(math.degrees(theta), 3)
-    out["TwoBeamExampleExact"] = f"{float(bo.film_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
-    out["TwoBeamExampleCoursework"] = f"{float(bo.two_beam_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
-    n = bo.water_refractive_index(np.array([400.0, 550.0, 700.0]))
-    for value, word in zip(n, ("FourHundred", "FiveFifty", "SevenHundred")):
+    out["TwoBeamExampleWlNm"], out["TwoBeamExampleThicknessNm"] = plain(wl_x), plain(d_x)
+    out["TwoBeamExampleExact"] = f"{float(bo.film_reflectance(wl_x, d_x, theta, polarization='s')):.3f}"
+    out["TwoBeamExampleCoursework"] = f"{float(bo.two_beam_reflectance(wl_x, d_x, theta, polarization='s')):.3f}"
+    n = bo.water_refractive_index(np.array([wl for wl, _ in WATER_INDEX_AT]))
+    for value, (wl, word) in zip(n, WATER_INDEX_AT):
         out[f"WaterIndex{word}"] = f"{float(value):.4f}"
+        out[f"WaterIndexNm{word}"] = plain(wl)
     r01 = ((n[1] - 1) / (n[1] + 1)) ** 2
     out["WaterRNormal"] = significant(float(r01), 2)
     return out
@@ -438,8 +447,9 @@ def physics(dirs):
 PHYSICS_MACROS = (
     ["TwoBeamWlMin", "TwoBeamWlMax", "TwoBeamMaxThicknessUm", "TwoBeamFigNm", "TwoBeamErrFig", "TwoBeamRelFig"]
     + [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
-    + ["TwoBeamExampleDeg", "TwoBeamExampleExact", "TwoBeamExampleCoursework", "WaterRNormal"]
-    + [f"WaterIndex{w}" for w in ("FourHundred", "FiveFifty", "SevenHundred")]
+    + ["TwoBeamExampleDeg", "TwoBeamExampleWlNm", "TwoBeamExampleThicknessNm", "TwoBeamExampleExact",
+       "TwoBeamExampleCoursework", "WaterRNormal"]
+    + [f"WaterIndex{what}{w}" for what in ("", "Nm") for w in ("FourHundred", "FiveFifty", "SevenHundred")]
 )
 
 _NUM = r"([0-9][0-9.]*(?:e[-+]?[0-9]+)?)"
@@ -469,6 +479,8 @@ def bandlimited(dirs):
         raise ValueError(f"expected one default weight degree, found {sorted(defaults)}")
     order = defaults.pop()
     out["BlOrder"] = order
+    m = re.search(r"_0_(\d+)um", " ".join(rows[0]))
+    out["BlThinMaxUm"] = m.group(1) if m else NA
     m = re.search(r"n=([0-9.]+)", " ".join(r["note"] for r in rows if r["illuminant"] == "E"))
     out["ConstIndex"] = m.group(1) if m else NA
     m = re.search(r"_n(\d+)_", " ".join(r["method"] for r in rows))
@@ -522,7 +534,7 @@ def bandlimited(dirs):
 
 
 BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixteen", "BlNsPointSixteen",
-                      "BlNsReference", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst", "BlPointSixteenMaxWorst", "BlExposedGainMin",
+                      "BlNsReference", "BlThinMaxUm", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst", "BlPointSixteenMaxWorst", "BlExposedGainMin",
                       "BlExposedGainMax"] + [
     f"{what}{w}" for what in (
         "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenThinMedian", "BlPointSixteenMax",
@@ -722,6 +734,11 @@ def documented(dirs):
     (out["SweepWavelengths"], out["SweepWlMin"], out["SweepWlMax"], out["SweepAngles"],
      out["SweepThicknesses"]) = m.groups()
     tests = root / "tests"
+    text = (tests / "test_reference_mpmath.py").read_text(encoding="utf-8")
+    m = re.search(r"wavelength (\d+)-(\d+) nm, thickness\s+0-(\d+) µm", text)
+    if not m:
+        raise ValueError("tests/test_reference_mpmath.py: the domain sentence ('wavelength A-B nm, thickness 0-C µm') is gone")
+    out["RefDomainWlMin"], out["RefDomainWlMax"], out["RefDomainThicknessUm"] = m.groups()
     patterns = {
         "TmmTol": ("test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
         "ColourXYZTol": ("test_colorimetry.py", rf"/ 100 to {_NUM}"),
@@ -738,7 +755,7 @@ def documented(dirs):
     return out
 
 
-DOCUMENTED_MACROS = ["SweepWavelengths", "SweepWlMin", "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
+DOCUMENTED_MACROS = ["RefDomainWlMin", "RefDomainWlMax", "RefDomainThicknessUm", "SweepWavelengths", "SweepWlMin", "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
                      "FilmColourTol", "HypothesisExamples"]
 
 
@@ -769,8 +786,8 @@ def constants(dirs):
     definition, and the lookup tables of :mod:`bubbleoptics.study.film_colour` (the Blender-like
     table's size and spacing are those of Blender's source, as that module's docstring cites)."""
     import fig_bandlimited  # the running-maximum window its caption states
-    from bubbleoptics import colorimetry
-    from bubbleoptics.study import film_colour, stability
+    from bubbleoptics import colorimetry, point_sampling_limit_nm
+    from bubbleoptics.study import film_colour, reference, stability
 
     grid = colorimetry.DEFAULT_WAVELENGTHS_NM
     return {
@@ -787,18 +804,26 @@ def constants(dirs):
         "BlenderMaxOpdUm": significant(film_colour.BLENDER_MAX_OPD_NM / 1000, 3),
         "BlenderTerms": str(film_colour.BLENDER_TERMS),
         "BlWindowUm": plain(fig_bandlimited.WINDOW_NM / 1000),
+        "ExposureMaxUm": plain(fig_bandlimited.EXPOSURE_MAX_NM / 1000),
+        "FringeWlNm": plain(inspect.signature(point_sampling_limit_nm).parameters["wavelength_nm"].default),
+        "ReferenceDigits": str(inspect.signature(reference.fresnel_mp).parameters["dps"].default),
+        "GrazingWlNm": plain(stability.WAVELENGTH_NM),
     }
 
 
 CONSTANTS_MACROS = ["MaxBands", "GridStepNm", "BandLowNm", "BandHighNm", "BandSpanNm", "OnsetDeltaE",
                     "OnsetWindowUm", "LutStepNm", "BlenderTableSize", "BlenderStepNm", "BlenderMaxOpdUm",
-                    "BlenderTerms", "BlWindowUm"]
+                    "BlenderTerms", "BlWindowUm", "ExposureMaxUm", "FringeWlNm", "ReferenceDigits", "GrazingWlNm"]
 
 #: Facts from elsewhere that the text quotes: name -> (value, source).  The source is cited in the
 #: paper where the fact is used.
 FACTS = {
     "BlenderGaussVersion": ("4.2", "Blender 4.2 LTS release notes: Cycles adds thin-film interference "
                                    "(Belcour & Barla 2017); paper.tex cites it as \\citep{Blender}"),
+    "SellmeierMinNm": ("182", "Daimon & Masumura (2007), the range of their fit for water at 20 C; cited there"),
+    "SellmeierMaxNm": ("1129", "the same"),
+    "MonolayerNm": ("2", "order of magnitude of a surfactant monolayer (a film's two faces), as in Mysels et al. "
+                         "(1959), cited in the introduction"),
 }
 
 
@@ -820,11 +845,14 @@ def gallery(dirs):
     out["GalleryYoungBottomUm"] = plain(fig_gallery.YOUNG["bottom_nm"] / 1000)
     (bubble,) = tracer.load_scene(fig_gallery.SCENES / fig_gallery.MATERIALS_SCENE).bubbles
     out["GalleryMaterialsFilmNm"] = plain(bubble.film.thickness_nm)
+    (bubble, *_) = tracer.load_scene(fig_gallery.SCENES / "coursework_one_bubble.txt").bubbles
+    out["CourseworkFilmNm"] = plain(bubble.film.thickness_nm)  # its listing 3.2's radii, read as micrometres
     return out
 
 
 GALLERY_MACROS = ["GallerySize", "GallerySpp", "GalleryYoungTopNm", "GalleryYoungBottomNm", "GalleryOldTopNm",
-                  "GalleryOldBottomNm", "GalleryYoungTopUm", "GalleryYoungBottomUm", "GalleryMaterialsFilmNm"]
+                  "GalleryOldBottomNm", "GalleryYoungTopUm", "GalleryYoungBottomUm", "GalleryMaterialsFilmNm",
+                  "CourseworkFilmNm"]
 
 #: name -> (inputs (relative to the data folders, for the warning), function, macro names)
 SECTIONS = {
