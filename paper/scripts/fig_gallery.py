@@ -63,7 +63,7 @@ def panels():
         ("(b) coursework fig. 3.4: recursive reflection", load("fig3_4_recursive_reflection.txt")),
         ("(c) coursework fig. 3.5 under a sky: a bubble", under_sky(load(MATERIALS_SCENE))),
         ("(d) six bubbles of different ages", load("gallery_bubbles.toml")),
-        ("(e) a young film, 420-1400 nm", with_film(one, **YOUNG)),
+        (f"(e) a young film, {YOUNG['top_nm']:g}-{YOUNG['bottom_nm']:g} nm", with_film(one, **YOUNG)),
         ("(f) an old film: black at the top", with_film(one, **OLD)),
     ]
 

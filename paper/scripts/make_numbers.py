@@ -818,8 +818,8 @@ CONSTANTS_MACROS = ["MaxBands", "GridStepNm", "BandLowNm", "BandHighNm", "BandSp
 #: Facts from elsewhere that the text quotes: name -> (value, source).  The source is cited in the
 #: paper where the fact is used.
 FACTS = {
-    "BlenderGaussVersion": ("4.2", "Blender 4.2 LTS release notes: Cycles adds thin-film interference "
-                                   "(Belcour & Barla 2017); paper.tex cites it as \\citep{Blender}"),
+    "BlenderGaussVersion": ("4.2", "the Blender entry of paper/references.bib (cited where it is used): thin "
+                                   "film in the Principled BSDF since 4.2, the Gaussian fit of Belcour & Barla"),
     "SellmeierMinNm": ("182", "Daimon & Masumura (2007), the range of their fit for water at 20 C; cited there"),
     "SellmeierMaxNm": ("1129", "the same"),
     "MonolayerNm": ("2", "order of magnitude of a surfactant monolayer (a film's two faces), as in Mysels et al. "
