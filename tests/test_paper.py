@@ -7,7 +7,7 @@
   into a temporary copy of ``paper/`` through ``BUBBLEOPTICS_FIGURES_DIR``: every ``fig_*.py``
   must write its PDF and PNG.
 * With ``latexmk`` on the PATH that copy is built with ``latexmk -pdf``: the PDF must exist,
-  have more than three pages, resolve every citation and reference, and (where ``pdffonts`` is
+  have more than three pages, resolve every citation and reference, have no overfull box, and (where ``pdffonts`` is
   installed) embed no Type 3 bitmap font.  Without LaTeX this test
   is skipped (the Debian packages are named in ``paper/Makefile``).
 
@@ -34,7 +34,8 @@ DERIVED = ROOT / "data" / "derived"
 
 #: Control words of paper.tex that start with a capital and are not numbers.tex macros: LaTeX's
 #: own (section sign, Greek capitals, ...) and the paper's (\\R, \\T for reflectance, transmittance).
-NOT_NUMBERS = {"IfFileExists", "PackageError", "DeclareTextSymbolDefault", "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
+NOT_NUMBERS = {"IfFileExists", "PackageError", "DeclareTextSymbolDefault",
+               "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
                "AE", "OE", "TeX", "LaTeX", "Huge", "LARGE", "Large", "Delta", "Gamma", "Lambda", "Omega", "Phi",
                "Pi", "Psi", "Sigma", "Theta", "Upsilon", "Xi"}
 
@@ -235,6 +236,8 @@ def test_paper_pdf_builds(built):
     assert _pages(pdf, log) > 3
     assert not re.search(r"Citation `[^']*' .*undefined", log), "unresolved citation"
     assert "There were undefined references" not in log
+    overfull = re.findall(r"^Overfull \\[hv]box .*$", log, flags=re.MULTILINE)
+    assert not overfull, f"overfull boxes: {overfull[:5]}"
     if shutil.which("pdffonts"):  # poppler-utils: a Type 3 font is a bitmap (e.g. a TS1 glyph without cm-super)
         fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, timeout=60)
         assert fonts.returncode == 0, fonts.stderr

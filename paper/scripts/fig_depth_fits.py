@@ -6,8 +6,8 @@ Reads ``data/coursework_table_4_1.csv``; writes ``fig_depth_fits.pdf``/``.png``.
 Top: the coursework's times (circles) with the affine exponential a + c·b^d (solid), the pure
 exponential a·b^d (dotted) and a fourth-degree polynomial (dashed: the coursework's law, refitted
 here with the same relative weights as the other two, not the coursework's own curve, which
-it fitted to the times by absolute residuals), one colour per scene.  Bottom: relative residuals (t − t̂)/t of each law, one panel per law, titled with its
-number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
+it fitted to the times by absolute residuals), one colour per scene.  Bottom: relative residuals
+(t − t̂)/t of each law, one panel per law, titled with its number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
 to depths 1-7 (TRAIN_DEPTH), which tells a law that explains the growth from one that
 interpolates it.  All fits by bubbleoptics.study with the same weighting (relative, 1/t; the
 quartic as well, so that every law sits at its own optimum of the same criterion).

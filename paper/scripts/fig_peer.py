@@ -5,8 +5,8 @@ Reads ``data/derived/peer_mitsuba.csv`` (written by ``benchmarks/peer_mitsuba.py
 the optional ``mitsuba`` package); writes ``fig_peer.pdf``/``.png``.
 
 (a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference (one above the other, one
-column wide), both against seconds per 256x256 image (median of the runs, compilation excluded), log-log.  Ours: Whitted, exhaustive
-tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
+column wide), both against seconds per 256x256 image (median of the runs, compilation
+excluded), log-log.  Ours: Whitted, exhaustive tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
 LLVM variant with the stratified and the independent sampler (1-4096 spp), scalar variant with
 the stratified sampler (1-1024 spp).  Numbers beside the points: samples per pixel (every point
 of the two main curves, the last point of the others).  Dotted grey:

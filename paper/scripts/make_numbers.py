@@ -534,7 +534,8 @@ def bandlimited(dirs):
 
 
 BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixteen", "BlNsPointSixteen",
-                      "BlNsReference", "BlThinMaxUm", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst", "BlPointSixteenMaxWorst", "BlExposedGainMin",
+                      "BlNsReference", "BlThinMaxUm", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst",
+                      "BlPointSixteenMaxWorst", "BlExposedGainMin",
                       "BlExposedGainMax"] + [
     f"{what}{w}" for what in (
         "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenThinMedian", "BlPointSixteenMax",
@@ -706,8 +707,9 @@ def peer(dirs):
 
 
 PEER_MACROS = (
-    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerTargetSpp", "PeerGlassIndex", "PeerPrunedThreshold", "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse",
-     "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe", "PeerSampleCostRatio", "PeerSampleCountRatio",
+    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerTargetSpp", "PeerGlassIndex", "PeerPrunedThreshold",
+     "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse", "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe",
+     "PeerSampleCostRatio", "PeerSampleCountRatio",
      "PeerMitsubaSppNeeded"]
     + [f"Peer{tag}{k}" for tag in ("Rmse", "De") for k in PEER_CURVES]
 )
@@ -737,7 +739,8 @@ def documented(dirs):
     text = (tests / "test_reference_mpmath.py").read_text(encoding="utf-8")
     m = re.search(r"wavelength (\d+)-(\d+) nm, thickness\s+0-(\d+) µm", text)
     if not m:
-        raise ValueError("tests/test_reference_mpmath.py: the domain sentence ('wavelength A-B nm, thickness 0-C µm') is gone")
+        raise ValueError("tests/test_reference_mpmath.py: the domain sentence "
+                         "('wavelength A-B nm, thickness 0-C µm') is gone")
     out["RefDomainWlMin"], out["RefDomainWlMax"], out["RefDomainThicknessUm"] = m.groups()
     patterns = {
         "TmmTol": ("test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
@@ -755,8 +758,9 @@ def documented(dirs):
     return out
 
 
-DOCUMENTED_MACROS = ["RefDomainWlMin", "RefDomainWlMax", "RefDomainThicknessUm", "SweepWavelengths", "SweepWlMin", "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
-                     "FilmColourTol", "HypothesisExamples"]
+DOCUMENTED_MACROS = ["RefDomainWlMin", "RefDomainWlMax", "RefDomainThicknessUm", "SweepWavelengths", "SweepWlMin",
+                     "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs",
+                     "AccWorstRel", "TmmTol", "ColourXYZTol", "FilmColourTol", "HypothesisExamples"]
 
 
 def defaults(dirs):
