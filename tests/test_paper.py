@@ -7,7 +7,8 @@
   into a temporary copy of ``paper/`` through ``BUBBLEOPTICS_FIGURES_DIR``: every ``fig_*.py``
   must write its PDF and PNG.
 * With ``latexmk`` on the PATH that copy is built with ``latexmk -pdf``: the PDF must exist,
-  have more than three pages, and resolve every citation and reference.  Without LaTeX this test
+  have more than three pages, resolve every citation and reference, have no overfull box, and (where ``pdffonts`` is
+  installed) embed no Type 3 bitmap font.  Without LaTeX this test
   is skipped (the Debian packages are named in ``paper/Makefile``).
 
 Nothing is written into the repository.
@@ -33,7 +34,8 @@ DERIVED = ROOT / "data" / "derived"
 
 #: Control words of paper.tex that start with a capital and are not numbers.tex macros: LaTeX's
 #: own (section sign, Greek capitals, ...) and the paper's (\\R, \\T for reflectance, transmittance).
-NOT_NUMBERS = {"IfFileExists", "PackageError", "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
+NOT_NUMBERS = {"IfFileExists", "PackageError", "DeclareTextSymbolDefault",
+               "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
                "AE", "OE", "TeX", "LaTeX", "Huge", "LARGE", "Large", "Delta", "Gamma", "Lambda", "Omega", "Phi",
                "Pi", "Psi", "Sigma", "Theta", "Upsilon", "Xi"}
 
@@ -81,6 +83,69 @@ def test_every_number_in_the_paper_is_a_macro(numbers):
     used = set(re.findall(r"\\([A-Z][A-Za-z]*)", (PAPER / "paper.tex").read_text(encoding="utf-8")))
     missing = sorted(used - NOT_NUMBERS - set(numbers))
     assert not missing, f"paper.tex uses macros that numbers.tex does not define: {missing}"
+
+
+def test_no_number_is_na_with_the_repositorys_data(numbers):
+    """Every input of make_numbers.py is in the repository, so no macro may fall back to n/a."""
+    na = sorted(name for name, text in numbers.items() if "NumberNA" in text)
+    assert not na, f"n/a with the repository's own data: {na}"
+
+
+@pytest.mark.parametrize("path", sorted(DERIVED.glob("*.csv")), ids=lambda p: p.name)
+def test_every_derived_csv_names_its_writer_machine_and_date(path):
+    """The first line of each benchmark output is bubbleoptics.study.provenance's header: the
+    script that wrote it, the date and the machine (what make_numbers.py reads back)."""
+    first = path.read_text(encoding="utf-8").splitlines()[0]
+    m = re.fullmatch(r"# written by (benchmarks/\w+\.py) on (\d{4}-\d{2}-\d{2}).*", first)
+    assert m, f"{path.name}: no provenance header, first line {first[:80]!r}"
+    assert (ROOT / m.group(1)).exists(), f"{path.name}: names {m.group(1)}, which does not exist"
+    assert re.search(r"[(;] ?([^,();]+), (\d+) (cores?|CPUs)", first), f"{path.name}: no machine in {first!r}"
+
+
+#: A number followed by a unit or a count noun (nm, µm, s, %, bands, pixels, ...): in the prose such a
+#: number is a result, a setting or a constant of the code, so it must come from numbers.tex.
+TYPED_WITH_UNIT = re.compile(
+    r"(?<![\\\w{.])\d+(?:\.\d+)?(?:--\d+(?:\.\d+)?)?(?:\\,|~|\s)*"
+    r"(?:nm\b|\\um|ms\b|ns\b|s\b|\\%|bands?\b|entries\b|samples?\b|pixels?\b|times\b|-fold|digits?\b|-digit)")
+
+
+def prose(tex):
+    """The text of the document body that is neither a comment, mathematics, nor a reference,
+    citation, label or \\code{} argument."""
+    body = tex[tex.index(r"\begin{document}"):]
+    body = re.sub(r"(?<!\\)%.*", "", body)
+    body = re.sub(r"\\begin\{(equation|align)\*?\}.*?\\end\{\1\*?\}", " ", body, flags=re.DOTALL)
+    body = re.sub(r"\$[^$]*\$", " ", body)
+    return re.sub(r"\\(ref|eqref|label|cite[pt]?|citealp|code)\*?(\[[^]]*\])?\{[^}]*\}", " ", body)
+
+
+def test_prose_filter_finds_typed_numbers():
+    tex = (r"\begin{document} with 421 bands (512 entries, 18.7\,nm) at 0.42\,\um{} in 3.2\,s, 7\,\%;"
+           r" ok: \MaxBands{} bands, $16$ bands in math, listing~3.2, Fig.~\ref{fig:1} % 5 nm in a comment")
+    found = [m.group(0) for m in TYPED_WITH_UNIT.finditer(prose(tex))]
+    assert found == ["421 bands", "512 entries", "18.7\\,nm", "0.42\\,\\um", "3.2\\,s", "7\\,\\%"]
+
+
+def test_no_number_with_a_unit_is_typed_in_the_prose(numbers):
+    """Results, settings and constants in the text are macros (numbers.tex), not typed: no number
+    with a unit or a count noun outside mathematics, and no machine name typed where a macro has it."""
+    text = prose((PAPER / "paper.tex").read_text(encoding="utf-8"))
+    typed = sorted({m.group(0) for m in TYPED_WITH_UNIT.finditer(text)})
+    assert not typed, f"typed numbers in paper.tex (make them macros of make_numbers.py): {typed}"
+    for name, value in numbers.items():
+        if name.endswith("Machine") and "NumberNA" not in value:
+            assert value.replace(r"\_", "_") not in text.replace(r"\_", "_"), f"{value!r} typed; use \\{name}"
+
+
+@pytest.mark.skipif(not (DERIVED / "bandlimited_colour.csv").exists(), reason="no data/derived/bandlimited_colour.csv")
+def test_one_exposure_convention_for_film_colours(numbers):
+    """Figs. bandlimited and stability quote the same point-sampling error for the same case (16
+    bands, normal incidence, D65, water, 0-20 um) only if both use the same exposure: the two
+    benchmarks' maxima agree (their thickness grids differ, hence the tolerance), and the band-limited
+    colour's maxima too."""
+    assert number(numbers["AliasMaxAllSixteen"]) == pytest.approx(number(numbers["BlPointSixteenMaxNormal"]), rel=0.1)
+    assert number(numbers["BandlimitedMaxSixteen"]) == pytest.approx(number(numbers["BlSixteenMaxNormal"]), rel=0.1)
+    assert number(numbers["BlExposedGainMin"]) > 1  # the exposed differences are the larger ones
 
 
 @pytest.mark.skipif(not (DERIVED / "optics_speed.csv").exists(), reason="no data/derived/optics_speed.csv")
@@ -171,3 +236,10 @@ def test_paper_pdf_builds(built):
     assert _pages(pdf, log) > 3
     assert not re.search(r"Citation `[^']*' .*undefined", log), "unresolved citation"
     assert "There were undefined references" not in log
+    overfull = re.findall(r"^Overfull \\[hv]box .*$", log, flags=re.MULTILINE)
+    assert not overfull, f"overfull boxes: {overfull[:5]}"
+    if shutil.which("pdffonts"):  # poppler-utils: a Type 3 font is a bitmap (e.g. a TS1 glyph without cm-super)
+        fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, timeout=60)
+        assert fonts.returncode == 0, fonts.stderr
+        type3 = [line for line in fonts.stdout.splitlines()[2:] if "Type 3" in line]
+        assert not type3, f"paper.pdf embeds Type 3 (bitmap) fonts: {type3}"

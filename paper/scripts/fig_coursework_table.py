@@ -1,7 +1,7 @@
 """Figure: the coursework's table 4.1 against our re-run: render time against trace depth, log scale.
 
 Run:  python paper/scripts/fig_coursework_table.py [--quick]
-Reads ``data/coursework_table_4_1.csv`` (the coursework, Apple M3 Pro) and
+Reads ``data/coursework_table_4_1.csv`` (the coursework, on the machine its notes name) and
 ``data/derived/coursework_table.csv`` (ours, written by ``benchmarks/coursework_table.py``);
 writes ``fig_coursework_table.pdf``/``.png``.
 
@@ -12,6 +12,7 @@ Ours are medians of the benchmark's runs; the vertical bars span the fastest to 
 Quick mode draws the same figure (it only reads tables).
 """
 
+import re
 import sys
 
 import numpy as np
@@ -23,7 +24,7 @@ from bubbleoptics.study import load_coursework_table, load_timing, timing_series
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 SOURCES = {  # label, marker, line style, filled marker
-    "coursework": ("coursework (Apple M3 Pro)", "o", ":", False),
+    "coursework": ("coursework ({machine})", "o", ":", False),  # the machine from the table's notes
     "exhaustive": ("ours, exhaustive", "s", "-", True),
     "pruned": ("ours, pruned", "^", "--", True),
 }
@@ -33,6 +34,8 @@ def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
     coursework = load_coursework_table(paths.COURSEWORK_TABLE)
     timing = load_timing(paths.TIMING)
+    found = re.search(r"on an? (.+?) \(", " ".join(coursework["notes"]))  # as make_numbers' CourseworkMachine
+    machine = found.group(1) if found else "its machine"
 
     fig = style.figure(height=2.7)
     ax = fig.subplots()
@@ -56,7 +59,8 @@ def main(argv=None):
 
     scene_handles = [Line2D([], [], color=c, label=n) for n, c in zip(SCENES.values(), colors)]
     source_handles = [Line2D([], [], color="0.3", linestyle=ls, marker=m, markerfacecolor="0.3" if f else "white",
-                             markeredgewidth=0.7, label=label) for label, m, ls, f in SOURCES.values()]
+                             markeredgewidth=0.7, label=label.format(machine=machine))
+                      for label, m, ls, f in SOURCES.values()]
     first = ax.legend(handles=source_handles, loc="upper left")
     ax.add_artist(first)
     ax.legend(handles=scene_handles, loc="center right", bbox_to_anchor=(1.0, 0.38))

@@ -4,16 +4,18 @@ Run:  python paper/scripts/fig_gallery.py [--quick]
 Renders scene files from ``data/scenes/`` with ``tracer``; writes ``fig_gallery.pdf``/``.png``.
 
 Top row, the coursework's functional tests (its figures 3.3-3.5, rebuilt from their captions
-in the coursework's text format, seen by its default camera against its black background): (a) a
-purple sphere hidden behind a pink one, seen in a mirror-like tetrahedron; (b) recursive
-reflection between a sphere and a tetrahedron, and a transparent sphere the tetrahedron shows
-through; (c) a soap bubble (a uniform 500 nm film) above glass, metal and matte spheres.
+in the coursework's text format, seen by its default camera): (a) a purple sphere hidden behind
+a pink one, seen in a mirror-like tetrahedron; (b) recursive reflection between a sphere and a
+tetrahedron, and a transparent sphere the tetrahedron shows through, both against the
+coursework's black background; (c) a soap bubble (a uniform 500 nm film) above glass, metal and
+matte spheres, under the procedural sky instead (``under_sky``): a bubble only reflects and
+transmits what surrounds it, so against black it would be invisible but for its highlight.
 Bottom row, the native TOML scenes under the procedural sky: (d) six bubbles of different sizes
 and ages (``gallery_bubbles.toml``); (e) one bubble with a young draining film, 420-1400 nm
 with swirls, and (f) the same bubble old, 4-380 nm, a black film at its top
 (``gallery_one_bubble.toml`` with its film replaced). Linear sRGB clipped to [0, 1] and
-sRGB-encoded, no other tone mapping.  Full mode: 480 x 480 pixels, 4 samples per pixel;
-quick mode: 96 x 96, 1 sample.
+sRGB-encoded, no other tone mapping.  Full mode (``FULL``): 480 x 480 pixels, 4 samples per
+pixel; quick mode (``QUICK``): 96 x 96, 1 sample.
 """
 
 import dataclasses
@@ -28,6 +30,9 @@ import style
 import tracer
 
 SCENES = paths.DATA / "scenes"
+MATERIALS_SCENE = "fig3_5_materials.txt"  # panel (c): the coursework's bubble and three materials
+FULL = (480, 4)  # pixels per side, samples per pixel
+QUICK = (96, 1)
 
 #: The two ages of the bubble in panels (e) and (f): draining films, thicknesses in nm.
 YOUNG = dict(top_nm=420.0, bottom_nm=1400.0, swirl=0.35)
@@ -41,6 +46,12 @@ def with_film(scene, **film):
     return dataclasses.replace(scene, bubbles=[new])
 
 
+def under_sky(scene):
+    """The scene under the procedural sky, upright for its camera (the coursework's frame has y
+    pointing down, so the sky's up is the camera's)."""
+    return dataclasses.replace(scene, environment=tracer.Environment(kind="sky", up=scene.camera.up))
+
+
 def panels():
     """(title, scene) for the six panels, in reading order."""
     def load(name):
@@ -50,16 +61,16 @@ def panels():
     return [
         ("(a) coursework fig. 3.3: a hidden sphere in a mirror", load("fig3_3_hidden_sphere_reflected.txt")),
         ("(b) coursework fig. 3.4: recursive reflection", load("fig3_4_recursive_reflection.txt")),
-        ("(c) coursework fig. 3.5: a bubble and three materials", load("fig3_5_materials.txt")),
+        ("(c) coursework fig. 3.5 under a sky: a bubble", under_sky(load(MATERIALS_SCENE))),
         ("(d) six bubbles of different ages", load("gallery_bubbles.toml")),
-        ("(e) a young film, 420-1400 nm", with_film(one, **YOUNG)),
+        (f"(e) a young film, {YOUNG['top_nm']:g}-{YOUNG['bottom_nm']:g} nm", with_film(one, **YOUNG)),
         ("(f) an old film: black at the top", with_film(one, **OLD)),
     ]
 
 
 def main(argv=None):
     args = paths.parse_args(__doc__.splitlines()[0], argv)
-    size, spp = (96, 1) if args.quick else (480, 4)
+    size, spp = QUICK if args.quick else FULL
 
     fig = style.figure(width=style.PAGE_WIDTH, height=5.0)
     axes = fig.subplots(2, 3)

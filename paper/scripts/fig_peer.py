@@ -4,9 +4,9 @@ Run:  python paper/scripts/fig_peer.py [--quick]
 Reads ``data/derived/peer_mitsuba.csv`` (written by ``benchmarks/peer_mitsuba.py``, which needs
 the optional ``mitsuba`` package); writes ``fig_peer.pdf``/``.png``.
 
-(a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference, both against seconds per
-256x256 image (median of the runs, compilation excluded), log-log.  Ours: Whitted, exhaustive
-tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
+(a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference (one above the other, one
+column wide), both against seconds per 256x256 image (median of the runs, compilation
+excluded), log-log.  Ours: Whitted, exhaustive tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
 LLVM variant with the stratified and the independent sampler (1-4096 spp), scalar variant with
 the stratified sampler (1-1024 spp).  Numbers beside the points: samples per pixel (every point
 of the two main curves, the last point of the others).  Dotted grey:
@@ -53,8 +53,8 @@ def main(argv=None):
     sweep = [r for r in rows if r["role"] == "sweep"]
     ours_ref = next((r for r in rows if r["role"] == "reference" and r["renderer"] == "ours"), None)
 
-    fig = style.figure(width=style.PAGE_WIDTH, height=2.6)
-    axes = fig.subplots(1, 2)
+    fig = style.figure(width=style.COLUMN_WIDTH, height=4.6)  # one column (paper.tex: figure)
+    axes = fig.subplots(2, 1, sharex=True)
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
     panels = (("rmse", "RMSE (linear RGB)", "(a)"), ("mean_de00", r"mean $\Delta E_{00}$", "(b)"))
     for ax, (metric, ylabel, tag) in zip(axes, panels):
@@ -69,21 +69,23 @@ def main(argv=None):
                     markerfacecolor="white" if ls != "-" else colors[ci], markeredgewidth=0.7)
             labelled = range(len(curve)) if which == "all" else [len(curve) - 1]
             for k in labelled:
-                ax.annotate(curve[k]["spp"], (t[k], e[k]), textcoords="offset points", xytext=offset, fontsize=5.5,
+                ax.annotate(curve[k]["spp"], (t[k], e[k]), textcoords="offset points", xytext=offset, fontsize=7,
                             color=colors[ci], ha="right" if offset[0] < 0 else "left")
         if ours_ref is not None:
             floor = float(ours_ref[metric])
             ax.axhline(floor, color="0.55", linestyle=":", linewidth=0.8)
             ax.annotate("ours vs Mitsuba, both converged", (0.02, floor), xycoords=("axes fraction", "data"),
-                        textcoords="offset points", xytext=(0, 2), fontsize=6, color="0.4")
+                        textcoords="offset points", xytext=(0, 2), fontsize=7, color="0.4")
         ax.set_xscale("log")
         ax.set_yscale("log")
         low, high = ax.get_ylim()
         ax.set_ylim(low / 1.4, high)  # room for the labels of the last points
-        ax.set_xlabel("render time per image (s)")
         ax.set_ylabel(ylabel)
         ax.set_title(f"{tag} {ylabel} against the reference", loc="left")
         ax.grid(True, which="major")
+    left, right = axes[-1].get_xlim()
+    axes[-1].set_xlim(left, right * 2.5)  # room for the labels of the slowest points
+    axes[-1].set_xlabel("render time per image (s)")
     axes[0].legend(loc="upper right", frameon=False)
     reference = next((n for n in notes if n.startswith("reference")), "")
     if reference:

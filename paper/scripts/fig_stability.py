@@ -93,7 +93,7 @@ def main(argv=None):
     ax_a.set_yticks(10.0 ** np.arange(-18, 1, 3))
     ax_a.set_xlabel(r"$\pi/2 - \theta$ (rad)")
     ax_a.set_ylabel(r"relative error of $T$")
-    ax_a.legend(loc="upper right", fontsize=6, handlelength=1.6)
+    ax_a.legend(loc="upper right", fontsize=7, handlelength=1.6)
     ax_a.grid(True, which="major")
     ax_a.set_title("(a) near grazing incidence, 550 nm", loc="left")
 
@@ -122,7 +122,7 @@ def main(argv=None):
     ax_b.set_xlim(0, d[-1] / 1000)
     ax_b.set_xlabel(r"film thickness $d$ ($\mu$m)")
     ax_b.set_ylabel(r"$\Delta E_{00}$ against 1 nm (1 $\mu$m median)")
-    ax_b.legend(loc="upper center", ncol=len(bands), fontsize=6.5, handlelength=1.2, columnspacing=0.9)
+    ax_b.legend(loc="upper center", ncol=len(bands), fontsize=7, handlelength=1.2, columnspacing=0.9)
     ax_b.set_yticks(10.0 ** np.arange(-3 if has_bandlimited else -2, 3))
     title = "(b) $\\Delta E_{00}$, $N$ bands: point-sampled (solid)"
     ax_b.set_title(title + (", band-limited (dotted)" if has_bandlimited else ""), loc="left")

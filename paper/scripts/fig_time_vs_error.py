@@ -82,7 +82,7 @@ def main(argv=None):
         h_def, = ax.plot(default["seconds"], default["interior_mean_de00"], "*", markersize=7, color="#F0E442",
                          markeredgecolor="k", markeredgewidth=0.5, zorder=5)
         ax.axvline(t_ref, color="k", ls=":", lw=0.6)
-        ax.text(t_ref / 1.15, hi_e / 1.3, "reference", rotation=90, ha="right", va="top", fontsize=5.5)
+        ax.text(t_ref / 1.15, hi_e / 1.3, "reference", rotation=90, ha="right", va="top", fontsize=7)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(lo_t, hi_t)
@@ -102,7 +102,7 @@ def main(argv=None):
     handles["target"] = Patch(color=colors[2], alpha=0.12, lw=0)
     leg = axes["legend"]
     leg.set_axis_off()
-    leg.legend(handles.values(), handles.keys(), loc="center", fontsize=5.5, handlelength=1.6, borderaxespad=0,
+    leg.legend(handles.values(), handles.keys(), loc="center", fontsize=7, handlelength=1.6, borderaxespad=0,
                labelspacing=0.35)
     for path in style.savefig(fig, "fig_time_vs_error"):
         print(f"wrote {path}")

@@ -32,7 +32,7 @@ Sources, section by section:
 * ``documented``: tolerances the test suite enforces, read from the sentences of ``README.md``
   and the test modules' docstrings that state them (so the paper quotes what the repository
   says, and a changed bar shows up as n/a rather than as a stale number).
-* ``defaults``: the renderer's defaults, from the signature of :func:`tracer.render`, and the film
+* ``defaults``: the renderer's defaults, from :data:`tracer.DEFAULTS` (what :func:`tracer.render` uses), and the film
   thickness at which its default spectral method switches (:func:`bubbleoptics.point_sampling_limit_nm`).
 
 Two macros are flags for ``\\ifnum`` in the text (:data:`FLAGS`): they are 0 or 1, never n/a.
@@ -115,6 +115,11 @@ def scientific(x: float, n: int = 2) -> str:
     if float(mantissa) == -1.0:
         return rf"\ensuremath{{-10^{{{k}}}}}"
     return rf"\ensuremath{{{mantissa}\times10^{{{k}}}}}"
+
+
+def plain(x: float) -> str:
+    """A constant as the code writes it, shortest form ('5', '0.42', '1400'; ``format(x, 'g')``)."""
+    return format(float(x), "g")
 
 
 def _sci_or_plain(x: float, n: int = 2) -> str:
@@ -360,11 +365,15 @@ GRAZING_MACROS = ["GrazingUMax", "GrazingFilms", "GrazingOursRelT", "GrazingOurs
 BANDS = {4: "Four", 8: "Eight", 16: "Sixteen", 32: "ThirtyTwo", 81: "EightyOne"}
 
 
+ALIAS_THIN_NM = 2000.0  # "thin films": below this thickness (the saturated low orders)
+
+
 def aliasing(dirs):
     _, rows = read_commented_csv(dirs["derived"] / "stability_aliasing.csv")
     out = {}
     thick = [_float(r["thickness_nm"]) for r in rows]
     out["AliasMaxThicknessUm"] = significant(max(thick) / 1000, 2)
+    out["AliasThinMaxUm"] = plain(ALIAS_THIN_NM / 1000)
     for n, word in BANDS.items():
         sel = [r for r in rows if r["method"] == "point" and int(float(r["n_bands"])) == n]
         if not sel:
@@ -372,7 +381,7 @@ def aliasing(dirs):
             continue
         out[f"AliasOnset{word}"] = significant(_float(sel[0]["onset_measured_nm"]) / 1000, 2)
         out[f"AliasPredicted{word}"] = significant(_float(sel[0]["onset_pred_400_nm"]) / 1000, 2)
-        below = [_float(r["dE00"]) for r in sel if _float(r["thickness_nm"]) < 2000]
+        below = [_float(r["dE00"]) for r in sel if _float(r["thickness_nm"]) < ALIAS_THIN_NM]
         out[f"AliasMaxTwoUm{word}"] = significant(max(below), 2) if below else NA
         out[f"AliasMaxAll{word}"] = significant(max(_float(r["dE00"]) for r in sel), 2)
     any_band = False
@@ -385,10 +394,16 @@ def aliasing(dirs):
 
 
 ALIASING_MACROS = (
-    ["AliasMaxThicknessUm", "BandlimitedAvailable"]
+    ["AliasMaxThicknessUm", "AliasThinMaxUm", "BandlimitedAvailable"]
     + [f"Alias{what}{w}" for what in ("Onset", "Predicted", "MaxTwoUm", "MaxAll") for w in BANDS.values()]
     + [f"BandlimitedMax{w}" for w in BANDS.values()]
 )
+
+
+TWO_BEAM_WL_NM = (380.0, 780.0)  # the range over which the two-beam model's largest error is quoted
+TWO_BEAM_MAX_D_NM = 2000.0
+TWO_BEAM_EXAMPLE = (1.2, 550.0, 150.0)  # the worked example: angle (rad), wavelength and film thickness (nm)
+WATER_INDEX_AT = ((400.0, "FourHundred"), (550.0, "FiveFifty"), (700.0, "SevenHundred"))  # nm, macro suffix
 
 
 def physics(dirs):
@@ -397,8 +412,16 @@ def physics(dirs):
     import bubbleoptics as bo
 
     out = {}
-    wl = np.arange(380.0, 781.0, 5.0)
-    d = np.linspace(0.0, 2000.0, 2001)[:, None]
+    wl = np.arange(TWO_BEAM_WL_NM[0], TWO_BEAM_WL_NM[1] + 1.0, 5.0)
+    d = np.linspace(0.0, TWO_BEAM_MAX_D_NM, 2001)[:, None]
+    out["TwoBeamWlMin"], out["TwoBeamWlMax"] = (plain(x) for x in TWO_BEAM_WL_NM)
+    out["TwoBeamMaxThicknessUm"] = plain(TWO_BEAM_MAX_D_NM / 1000)
+    import fig_thin_film  # the curve Fig. 1 draws: the two-beam error at one wavelength
+
+    _, _, _, gap, peak = fig_thin_film.two_beam_gap()
+    out["TwoBeamFigNm"] = plain(fig_thin_film.TWO_BEAM_NM)
+    out["TwoBeamErrFig"] = significant(gap, 2)
+    out["TwoBeamRelFig"] = significant(100 * gap / peak, 2)
     for deg, word in ((0, "Normal"), (60, "Sixty"), (75, "SeventyFive")):
         theta = np.deg2rad(deg)
         R = bo.film_reflectance(wl, d, theta)
@@ -407,22 +430,26 @@ def physics(dirs):
         out[f"TwoBeamErr{word}"] = significant(err.max(), 2)
         out[f"TwoBeamPeak{word}"] = significant(R.max(), 2)
         out[f"TwoBeamRel{word}"] = significant(100 * err.max() / R.max(), 2)
-    theta = 1.2
+    theta, wl_x, d_x = TWO_BEAM_EXAMPLE  # s light, radians, nm, nm
     out["TwoBeamExampleDeg"] = significant(math.degrees(theta), 3)
-    out["TwoBeamExampleExact"] = f"{float(bo.film_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
-    out["TwoBeamExampleCoursework"] = f"{float(bo.two_beam_reflectance(550.0, 150.0, theta, polarization='s')):.3f}"
-    n = bo.water_refractive_index(np.array([400.0, 550.0, 700.0]))
-    for value, word in zip(n, ("FourHundred", "FiveFifty", "SevenHundred")):
+    out["TwoBeamExampleWlNm"], out["TwoBeamExampleThicknessNm"] = plain(wl_x), plain(d_x)
+    out["TwoBeamExampleExact"] = f"{float(bo.film_reflectance(wl_x, d_x, theta, polarization='s')):.3f}"
+    out["TwoBeamExampleCoursework"] = f"{float(bo.two_beam_reflectance(wl_x, d_x, theta, polarization='s')):.3f}"
+    n = bo.water_refractive_index(np.array([wl for wl, _ in WATER_INDEX_AT]))
+    for value, (wl, word) in zip(n, WATER_INDEX_AT):
         out[f"WaterIndex{word}"] = f"{float(value):.4f}"
+        out[f"WaterIndexNm{word}"] = plain(wl)
     r01 = ((n[1] - 1) / (n[1] + 1)) ** 2
     out["WaterRNormal"] = significant(float(r01), 2)
     return out
 
 
 PHYSICS_MACROS = (
-    [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
-    + ["TwoBeamExampleDeg", "TwoBeamExampleExact", "TwoBeamExampleCoursework", "WaterRNormal"]
-    + [f"WaterIndex{w}" for w in ("FourHundred", "FiveFifty", "SevenHundred")]
+    ["TwoBeamWlMin", "TwoBeamWlMax", "TwoBeamMaxThicknessUm", "TwoBeamFigNm", "TwoBeamErrFig", "TwoBeamRelFig"]
+    + [f"TwoBeam{what}{w}" for what in ("Err", "Peak", "Rel") for w in ("Normal", "Sixty", "SeventyFive")]
+    + ["TwoBeamExampleDeg", "TwoBeamExampleWlNm", "TwoBeamExampleThicknessNm", "TwoBeamExampleExact",
+       "TwoBeamExampleCoursework", "WaterRNormal"]
+    + [f"WaterIndex{what}{w}" for what in ("", "Nm") for w in ("FourHundred", "FiveFifty", "SevenHundred")]
 )
 
 _NUM = r"([0-9][0-9.]*(?:e[-+]?[0-9]+)?)"
@@ -452,39 +479,53 @@ def bandlimited(dirs):
         raise ValueError(f"expected one default weight degree, found {sorted(defaults)}")
     order = defaults.pop()
     out["BlOrder"] = order
+    m = re.search(r"_0_(\d+)um", " ".join(rows[0]))
+    out["BlThinMaxUm"] = m.group(1) if m else NA
+    m = re.search(r"n=([0-9.]+)", " ".join(r["note"] for r in rows if r["illuminant"] == "E"))
+    out["ConstIndex"] = m.group(1) if m else NA
+    m = re.search(r"_n(\d+)_", " ".join(r["method"] for r in rows))
+    out["NearIndexNm"] = m.group(1) if m else NA
+    # One convention for every film-colour difference the paper quotes (and fig_bandlimited.py and
+    # fig_stability.py draw): the colours exposed so that the brightest film of the reference is
+    # white, as a camera exposed for the bubble shows them (the CSV's *_exposed columns, the
+    # exposure in its "exposure" column; benchmarks/stability.py uses the same exposure).
+    exposed_gain = []
     for theta, word in ANGLE_WORDS.items():
-        for n_bands, bands in ((4, "Four"), (8, "Eight"), (16, "Sixteen")):
-            r = row("bandlimited", theta, n_bands, order)
-            out[f"Bl{bands}Max{word}"] = significant(r["dE00_max"], 2)
         r16 = row("bandlimited", theta, 16, order)
-        out[f"BlSixteenMedian{word}"] = significant(r16["dE00_median"], 2)
-        out[f"BlSixteenThinMax{word}"] = significant(r16["dE00_max_0_2um"], 2)
-        out[f"BlPointSixteenMax{word}"] = significant(row("point", theta, 16)["dE00_max"], 2)
-        out[f"BlPointSixteenThinMax{word}"] = significant(row("point", theta, 16)["dE00_max_0_2um"], 2)
-        out[f"BlBandMeanSixteenMax{word}"] = significant(row("band_mean", theta, 16, 6)["dE00_max"], 2)
-        out[f"BlFourEightMax{word}"] = significant(row("bandlimited", theta, 4, 8)["dE00_max"], 2)
-        gauss = row("gaussian_fit_BB2017", theta, illuminant="E")
-        out[f"GaussThinMedian{word}"] = significant(gauss["dE00_median_0_2um"], 2)
-        out[f"GaussMax{word}"] = significant(gauss["dE00_max"], 2)
-        out[f"GaussDispMax{word}"] = significant(row("gaussian_fit_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
-        out[f"LutMax{word}"] = scientific(row("lut_nondispersive", theta, illuminant="E")["dE00_max"], 1)
-        lut = row("lut_nondispersive_vs_dispersive", theta, illuminant="E")
-        out[f"LutDispMedian{word}"] = significant(lut["dE00_median"], 2)
-        out[f"LutDispMax{word}"] = significant(lut["dE00_max"], 2)
-        out[f"LutNearDispMax{word}"] = significant(
-            row("lut_nondispersive_n555_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
-        out[f"BlWaterMax{word}"] = significant(row("bandlimited_water", theta, 16, order, "E")["dE00_max"], 2)
-        # the same after the exposure that makes the brightest film white
         out[f"BlExposure{word}"] = significant(r16["exposure"], 2)
-        out[f"BlSixteenMaxExposed{word}"] = significant(r16["dE00_max_exposed"], 2)
-        out[f"BlEightMaxExposed{word}"] = significant(row("bandlimited", theta, 8, order)["dE00_max_exposed"], 2)
-        out[f"BlPointSixteenMaxExposed{word}"] = significant(row("point", theta, 16)["dE00_max_exposed"], 2)
-        out[f"GaussMaxExposed{word}"] = significant(gauss["dE00_max_exposed"], 2)
-        out[f"GaussThinMedianExposed{word}"] = significant(gauss["dE00_median_0_2um_exposed"], 2)
-        out[f"LutDispMaxExposed{word}"] = significant(lut["dE00_max_exposed"], 2)
-        out[f"LutBlenderMax{word}"] = significant(row("lut_blender_like", theta, illuminant="E")["dE00_max"], 2)
+        for n_bands, bands in ((4, "Four"), (8, "Eight"), (16, "Sixteen")):
+            out[f"Bl{bands}Max{word}"] = significant(row("bandlimited", theta, n_bands, order)["dE00_max_exposed"], 2)
+        out[f"BlSixteenThinMedian{word}"] = significant(r16["dE00_median_0_2um_exposed"], 2)
+        point = row("point", theta, 16)
+        out[f"BlPointSixteenMax{word}"] = significant(point["dE00_max_exposed"], 2)
+        out[f"BlPointSixteenThinMedian{word}"] = significant(point["dE00_median_0_2um_exposed"], 2)
+        band_mean = row("band_mean", theta, 16, 6)
+        out[f"BlBandMeanSixteenMax{word}"] = significant(band_mean["dE00_max_exposed"], 2)
+        out[f"BlFourEightMax{word}"] = significant(row("bandlimited", theta, 4, 8)["dE00_max_exposed"], 2)
+        gauss = row("gaussian_fit_BB2017", theta, illuminant="E")
+        out[f"GaussThinMedian{word}"] = significant(gauss["dE00_median_0_2um_exposed"], 2)
+        out[f"GaussMax{word}"] = significant(gauss["dE00_max_exposed"], 2)
+        out[f"GaussDispMax{word}"] = significant(
+            row("gaussian_fit_vs_dispersive", theta, illuminant="E")["dE00_max_exposed"], 2)
+        out[f"LutMax{word}"] = scientific(row("lut_nondispersive", theta, illuminant="E")["dE00_max_exposed"], 1)
+        lut = row("lut_nondispersive_vs_dispersive", theta, illuminant="E")
+        out[f"LutDispThinMedian{word}"] = significant(lut["dE00_median_0_2um_exposed"], 2)
+        out[f"LutDispMax{word}"] = significant(lut["dE00_max_exposed"], 2)
+        out[f"LutNearDispMax{word}"] = significant(
+            row("lut_nondispersive_n555_vs_dispersive", theta, illuminant="E")["dE00_max_exposed"], 2)
+        out[f"BlWaterMax{word}"] = significant(row("bandlimited_water", theta, 16, order, "E")["dE00_max_exposed"], 2)
+        out[f"LutBlenderMax{word}"] = significant(row("lut_blender_like", theta, illuminant="E")["dE00_max_exposed"], 2)
         out[f"LutBlenderDispMax{word}"] = significant(
-            row("lut_blender_like_vs_dispersive", theta, illuminant="E")["dE00_max"], 2)
+            row("lut_blender_like_vs_dispersive", theta, illuminant="E")["dE00_max_exposed"], 2)
+        # the same colours as reflected (dark) differ less: by how much, for the methods of panels (a), (b)
+        for r in (point, band_mean, r16, row("bandlimited", theta, 8, order)):
+            exposed_gain.append(r["dE00_max_exposed"] / r["dE00_max"])
+    # the worst over both angles (the abstract's numbers)
+    for key in ("BlSixteenMax", "BlPointSixteenMax"):
+        worst = max(float(out[f"{key}{w}"].replace(r"\,", "")) for w in ANGLE_WORDS.values())
+        out[f"{key}Worst"] = significant(worst, 2)
+    out["BlExposedGainMin"] = significant(min(exposed_gain), 2)
+    out["BlExposedGainMax"] = significant(max(exposed_gain), 2)
     ns = lambda r: 0.5 * sum(row(*r[:1], t, *r[1:])["ns_per_colour"] for t in ANGLE_WORDS)  # noqa: E731
     out["BlNsSixteen"] = significant(ns(("bandlimited", 16, order)), 2)
     out["BlNsPointSixteen"] = significant(ns(("point", 16)), 2)
@@ -493,13 +534,14 @@ def bandlimited(dirs):
 
 
 BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixteen", "BlNsPointSixteen",
-                      "BlNsReference"] + [
+                      "BlNsReference", "BlThinMaxUm", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst",
+                      "BlPointSixteenMaxWorst", "BlExposedGainMin",
+                      "BlExposedGainMax"] + [
     f"{what}{w}" for what in (
-        "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenMedian", "BlSixteenThinMax", "BlPointSixteenMax",
-        "BlPointSixteenThinMax", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
-        "GaussDispMax", "LutMax", "LutDispMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax", "BlExposure",
-        "BlSixteenMaxExposed", "BlEightMaxExposed", "BlPointSixteenMaxExposed", "GaussMaxExposed",
-        "GaussThinMedianExposed", "LutDispMaxExposed", "LutBlenderMax", "LutBlenderDispMax")
+        "BlFourMax", "BlEightMax", "BlSixteenMax", "BlSixteenThinMedian", "BlPointSixteenMax",
+        "BlPointSixteenThinMedian", "BlBandMeanSixteenMax", "BlFourEightMax", "GaussThinMedian", "GaussMax",
+        "GaussDispMax", "LutMax", "LutDispThinMedian", "LutDispMax", "LutNearDispMax", "BlWaterMax", "BlExposure",
+        "LutBlenderMax", "LutBlenderDispMax")
     for w in ANGLE_WORDS.values()
 ]
 
@@ -524,6 +566,20 @@ def timeerror(dirs):
     out["TvERefSpp"] = str(int(ref["spp"]))
     out["TvERefDepth"] = str(int(ref["depth"]))
     out["TvETargetError"] = significant(tradeoffs.TARGET_MEAN_DE00, 1)
+    out["TvERefBands"] = str(int(ref["spectral_samples"]))
+    values = {}
+    for r in rows:
+        values.setdefault(r["factor"], set()).add(r["value"])
+    point = sorted(int(v) for v in values["spectral"] if v.isdigit())
+    averaged = sorted(int(v.split()[0]) for v in values["spectral"] if v.endswith(" band"))
+    out["TvEPointBands"] = ", ".join(map(str, point[:-1])) + f" and {point[-1]}"
+    out["TvEAveragedBandsMin"], out["TvEAveragedBandsMax"] = str(averaged[0]), str(averaged[-1])
+    thresholds = sorted(float(v) for v in values["threshold"])
+    out["TvEThresholdMin"], out["TvEThresholdMax"] = significant(thresholds[0], 1), significant(thresholds[-1], 1)
+    spp = sorted(int(v) for v in values["spp"])
+    out["TvESppMin"], out["TvESppMax"] = str(spp[0]), str(spp[-1])
+    depth = sorted(int(v) for v in values["depth"])
+    out["TvEDepthMin"], out["TvEDepthMax"] = str(depth[0]), str(depth[-1])
     out["TvETargetSpeedup"] = significant(tradeoffs.TARGET_SPEEDUP, 2)
     interior, allpix, speedup, on_front = [], [], [], []
     for scene, word in SCENE_WORDS.items():
@@ -579,6 +635,8 @@ def timeerror(dirs):
 
 TIMEERROR_MACROS = (
     ["TvEMachine", "TvEDate", "TvESize", "TvERefSpp", "TvERefDepth", "TvETargetError", "TvETargetSpeedup",
+     "TvERefBands", "TvEPointBands", "TvEAveragedBandsMin", "TvEAveragedBandsMax", "TvEThresholdMin",
+     "TvEThresholdMax", "TvESppMin", "TvESppMax", "TvEDepthMin", "TvEDepthMax",
      "TvEInteriorMax", "TvEAllMax", "TvESpeedupMin", "TvEDefaultsOnFront", "TvEDefaultsQualify", "TvETimingNoise"]
     + [f"TvE{what}{w}" for what in ("Interior", "All", "Speedup", "RefSeconds", "DefaultMs", "InteriorFraction")
        for w in SCENE_WORDS.values()]
@@ -594,6 +652,9 @@ PEER_CURVES = {
     "MitsubaIndependent": ("mitsuba", "llvm_ad_rgb", "independent"),
     "MitsubaScalar": ("mitsuba", "scalar_rgb", "stratified"),
 }
+
+
+PEER_TARGET_SPP = 4  # the error ours reaches at this many samples per pixel is the target (as the benchmark)
 
 
 def peer(dirs):
@@ -623,7 +684,12 @@ def peer(dirs):
     out["PeerOursRefSpp"] = str(int(oref["spp"]))
     out["PeerFloorRmse"] = scientific(float(oref["rmse"]), 2)
     out["PeerFloorDe"] = significant(float(oref["mean_de00"]), 2)
-    four = next(r for r in curves["OursExhaustive"] if int(r["spp"]) == 4)
+    four = next(r for r in curves["OursExhaustive"] if int(r["spp"]) == PEER_TARGET_SPP)
+    out["PeerTargetSpp"] = str(PEER_TARGET_SPP)
+    m = re.search(r"glass sphere n = ([0-9.]+)", " ".join(notes))
+    out["PeerGlassIndex"] = m.group(1) if m else NA
+    m = re.search(r"or ([0-9.e+-]+) \(pruned\)", " ".join(notes))
+    out["PeerPrunedThreshold"] = scientific(float(m.group(1)), 1) if m else NA
     for metric, tag in (("rmse", "Rmse"), ("mean_de00", "De")):
         target = float(four[metric])
         out[f"PeerTarget{tag}"] = scientific(target, 2) if metric == "rmse" else significant(target, 2)
@@ -641,8 +707,9 @@ def peer(dirs):
 
 
 PEER_MACROS = (
-    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse",
-     "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe", "PeerSampleCostRatio", "PeerSampleCountRatio",
+    ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerTargetSpp", "PeerGlassIndex", "PeerPrunedThreshold",
+     "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse", "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe",
+     "PeerSampleCostRatio", "PeerSampleCountRatio",
      "PeerMitsubaSppNeeded"]
     + [f"Peer{tag}{k}" for tag in ("Rmse", "De") for k in PEER_CURVES]
 )
@@ -661,7 +728,20 @@ def documented(dirs):
     if not m:
         raise ValueError("README.md: the sentence 'measured worst: A and B' is gone")
     out["AccWorstAbs"], out["AccWorstRel"] = scientific(float(m.group(1)), 1), scientific(float(m.group(2)), 1)
+    bench = (root / "benchmarks" / "optics_speed.py").read_text(encoding="utf-8")
+    m = re.search(r"Sweep: (\d+) wavelengths \((\d+)-(\d+) nm every \d+ nm\) x (\d+) angles .*?x (\d+) thicknesses",
+                  bench, flags=re.DOTALL)
+    if not m:
+        raise ValueError("benchmarks/optics_speed.py: the sentence 'Sweep: N wavelengths (A-B nm ...) x ...' is gone")
+    (out["SweepWavelengths"], out["SweepWlMin"], out["SweepWlMax"], out["SweepAngles"],
+     out["SweepThicknesses"]) = m.groups()
     tests = root / "tests"
+    text = (tests / "test_reference_mpmath.py").read_text(encoding="utf-8")
+    m = re.search(r"wavelength (\d+)-(\d+) nm, thickness\s+0-(\d+) µm", text)
+    if not m:
+        raise ValueError("tests/test_reference_mpmath.py: the domain sentence "
+                         "('wavelength A-B nm, thickness 0-C µm') is gone")
+    out["RefDomainWlMin"], out["RefDomainWlMax"], out["RefDomainThicknessUm"] = m.groups()
     patterns = {
         "TmmTol": ("test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
         "ColourXYZTol": ("test_colorimetry.py", rf"/ 100 to {_NUM}"),
@@ -678,8 +758,9 @@ def documented(dirs):
     return out
 
 
-DOCUMENTED_MACROS = ["AccBarAbs", "AccBarRel", "AccWorstAbs", "AccWorstRel", "TmmTol", "ColourXYZTol",
-                     "FilmColourTol", "HypothesisExamples"]
+DOCUMENTED_MACROS = ["RefDomainWlMin", "RefDomainWlMax", "RefDomainThicknessUm", "SweepWavelengths", "SweepWlMin",
+                     "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs",
+                     "AccWorstRel", "TmmTol", "ColourXYZTol", "FilmColourTol", "HypothesisExamples"]
 
 
 def defaults(dirs):
@@ -687,13 +768,13 @@ def defaults(dirs):
 
     import bubbleoptics as bo
 
-    params = inspect.signature(tracer.render).parameters
-    bands = params["spectral_samples"].default
+    defaults_ = tracer.DEFAULTS  # what tracer.render uses for an argument left at None
+    bands = defaults_["spectral_samples"]
     return {
         "DefaultBands": str(bands),
-        "DefaultThreshold": scientific(params["threshold"].default, 1),
-        "DefaultDepth": str(params["depth"].default),
-        "DefaultMethod": rf"\texttt{{{params['spectral_method'].default}}}",
+        "DefaultThreshold": scientific(defaults_["threshold"], 1),
+        "DefaultDepth": str(defaults_["depth"]),
+        "DefaultMethod": rf"\texttt{{{defaults_['spectral_method']}}}",
         "DefaultAliasLimitUm": significant(float(bo.point_sampling_limit_nm(bands)) / 1000, 2),
         "AutoSwitchUm": significant(float(bo.point_sampling_limit_nm(bands)) / tracer.pack.AUTO_FRINGE_BANDS
                                     / 1000, 2),
@@ -703,6 +784,79 @@ def defaults(dirs):
 
 DEFAULTS_MACROS = ["DefaultBands", "DefaultThreshold", "DefaultDepth", "DefaultMethod", "DefaultAliasLimitUm",
                    "AutoSwitchUm", "AutoFringeBands"]
+
+def constants(dirs):
+    """Constants of the code that the text quotes: the spectral grid, the aliasing onset's
+    definition, and the lookup tables of :mod:`bubbleoptics.study.film_colour` (the Blender-like
+    table's size and spacing are those of Blender's source, as that module's docstring cites)."""
+    import fig_bandlimited  # the running-maximum window its caption states
+    from bubbleoptics import colorimetry, point_sampling_limit_nm
+    from bubbleoptics.study import film_colour, reference, stability
+
+    grid = colorimetry.DEFAULT_WAVELENGTHS_NM
+    return {
+        "MaxBands": str(colorimetry.MAX_BANDS),
+        "GridStepNm": plain(grid[1] - grid[0]),
+        "BandLowNm": plain(grid[0]),
+        "BandHighNm": plain(grid[-1]),
+        "BandSpanNm": plain(grid[-1] - grid[0]),
+        "OnsetDeltaE": plain(stability.ONSET_DE00),
+        "OnsetWindowUm": plain(stability.ONSET_WINDOW_NM / 1000),
+        "LutStepNm": plain(film_colour.LUT_STEP_NM),
+        "BlenderTableSize": str(film_colour.BLENDER_TABLE_SIZE),
+        "BlenderStepNm": significant(film_colour.BLENDER_STEP_NM, 3),
+        "BlenderMaxOpdUm": significant(film_colour.BLENDER_MAX_OPD_NM / 1000, 3),
+        "BlenderTerms": str(film_colour.BLENDER_TERMS),
+        "BlWindowUm": plain(fig_bandlimited.WINDOW_NM / 1000),
+        "ExposureMaxUm": plain(fig_bandlimited.EXPOSURE_MAX_NM / 1000),
+        "FringeWlNm": plain(inspect.signature(point_sampling_limit_nm).parameters["wavelength_nm"].default),
+        "ReferenceDigits": str(inspect.signature(reference.fresnel_mp).parameters["dps"].default),
+        "GrazingWlNm": plain(stability.WAVELENGTH_NM),
+    }
+
+
+CONSTANTS_MACROS = ["MaxBands", "GridStepNm", "BandLowNm", "BandHighNm", "BandSpanNm", "OnsetDeltaE",
+                    "OnsetWindowUm", "LutStepNm", "BlenderTableSize", "BlenderStepNm", "BlenderMaxOpdUm",
+                    "BlenderTerms", "BlWindowUm", "ExposureMaxUm", "FringeWlNm", "ReferenceDigits", "GrazingWlNm"]
+
+#: Facts from elsewhere that the text quotes: name -> (value, source).  The source is cited in the
+#: paper where the fact is used.
+FACTS = {
+    "BlenderGaussVersion": ("4.2", "the Blender entry of paper/references.bib (cited where it is used): thin "
+                                   "film in the Principled BSDF since 4.2, the Gaussian fit of Belcour & Barla"),
+    "SellmeierMinNm": ("182", "Daimon & Masumura (2007), the range of their fit for water at 20 C; cited there"),
+    "SellmeierMaxNm": ("1129", "the same"),
+    "MonolayerNm": ("2", "order of magnitude of a surfactant monolayer (a film's two faces), as in Mysels et al. "
+                         "(1959), cited in the introduction"),
+}
+
+
+def facts(dirs):
+    return {name: value for name, (value, _source) in FACTS.items()}
+
+
+def gallery(dirs):
+    """The settings of Fig. gallery, from ``fig_gallery.py`` and the scene it renders in panel (c)."""
+    import fig_gallery
+    import tracer
+
+    size, spp = fig_gallery.FULL
+    out = {"GallerySize": str(size), "GallerySpp": str(spp)}
+    for age, film in (("Young", fig_gallery.YOUNG), ("Old", fig_gallery.OLD)):
+        out[f"Gallery{age}TopNm"] = plain(film["top_nm"])
+        out[f"Gallery{age}BottomNm"] = plain(film["bottom_nm"])
+    out["GalleryYoungTopUm"] = plain(fig_gallery.YOUNG["top_nm"] / 1000)
+    out["GalleryYoungBottomUm"] = plain(fig_gallery.YOUNG["bottom_nm"] / 1000)
+    (bubble,) = tracer.load_scene(fig_gallery.SCENES / fig_gallery.MATERIALS_SCENE).bubbles
+    out["GalleryMaterialsFilmNm"] = plain(bubble.film.thickness_nm)
+    (bubble, *_) = tracer.load_scene(fig_gallery.SCENES / "coursework_one_bubble.txt").bubbles
+    out["CourseworkFilmNm"] = plain(bubble.film.thickness_nm)  # its listing 3.2's radii, read as micrometres
+    return out
+
+
+GALLERY_MACROS = ["GallerySize", "GallerySpp", "GalleryYoungTopNm", "GalleryYoungBottomNm", "GalleryOldTopNm",
+                  "GalleryOldBottomNm", "GalleryYoungTopUm", "GalleryYoungBottomUm", "GalleryMaterialsFilmNm",
+                  "CourseworkFilmNm"]
 
 #: name -> (inputs (relative to the data folders, for the warning), function, macro names)
 SECTIONS = {
@@ -716,7 +870,10 @@ SECTIONS = {
     "timeerror": (["derived/time_vs_error.csv"], timeerror, TIMEERROR_MACROS),
     "peer": (["derived/peer_mitsuba.csv"], peer, PEER_MACROS),
     "documented": (["README.md", "tests/"], documented, DOCUMENTED_MACROS),
-    "defaults": (["tracer.render (signature)"], defaults, DEFAULTS_MACROS),
+    "defaults": (["tracer.DEFAULTS"], defaults, DEFAULTS_MACROS),
+    "constants": (["bubbleoptics (constants)"], constants, CONSTANTS_MACROS),
+    "facts": (["FACTS (sources beside each)"], facts, list(FACTS)),
+    "gallery": (["paper/scripts/fig_gallery.py", "data/scenes/"], gallery, GALLERY_MACROS),
 }
 
 _NAME = re.compile(r"^[A-Za-z]+$")
