@@ -18,7 +18,7 @@ from .pack import pack_scene
 from .scene import Scene
 
 __all__ = ["render", "render_with_stats", "render_spectral", "resolve_settings", "RenderStats", "save_image",
-           "DEFAULTS"]
+           "DEFAULTS", "RenderCancelled"]
 
 #: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
@@ -29,6 +29,19 @@ __all__ = ["render", "render_with_stats", "render_spectral", "resolve_settings",
 #: then averages them over each band (:func:`tracer.pack.resolve_spectral_method`).
 DEFAULTS = dict(width=960, height=960, depth=10, spp=1, threshold=1e-3, spectral_samples=16, seed=0,
                 spectral_method="auto")
+
+
+class RenderCancelled(Exception):
+    """A render stopped because its *cancel* argument said so (:func:`render_with_stats`)."""
+
+
+def _cancelled(cancel) -> bool:
+    """Whether *cancel* (None, a ``threading.Event`` or a callable returning a truth value) asks
+    the render to stop."""
+    if cancel is None:
+        return False
+    is_set = getattr(cancel, "is_set", None)
+    return bool(is_set() if is_set is not None else cancel())
 
 
 @dataclass
@@ -74,14 +87,15 @@ _NO_SPECTRUM = None
 
 
 def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
-               spectrum=_NO_SPECTRUM):
+               spectrum=_NO_SPECTRUM, stop=None):
     """Render the rows *rows* into ``image[rows]`` and ``counts[rows]`` (and ``spectrum[rows]``,
     (height, width, C), unless it is :data:`_NO_SPECTRUM`).
 
     The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
     Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
     threads to stop at their next ray, and raises ``KeyboardInterrupt`` (the partial image is
-    the caller's to discard).
+    the caller's to discard).  *stop* (see :func:`_cancelled`) is polled the same way: when
+    it asks, the kernel is stopped likewise and :class:`RenderCancelled` raised.
     """
     import numba
 
@@ -103,8 +117,9 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
         worker = threading.Thread(target=work, name="tracer-render", daemon=True)
         try:
             worker.start()
-            while not done.wait(0.05):
-                pass
+            while not done.wait(0.005 if stop is not None else 0.05):
+                if _cancelled(stop):
+                    raise RenderCancelled("render cancelled")
         except BaseException:
             cancel[0] = 1
             # the kernel must have stopped before the next one starts: wait, whatever comes
@@ -180,8 +195,14 @@ def render_with_stats(
     spectral_method=None,
     progress=None,
     spectral_image=False,
+    cancel=None,
 ):
     """Render and return ``(image, RenderStats)``; see :func:`render`.
+
+    *cancel*: None, a ``threading.Event`` or a callable; while the render runs it is polled
+    every few milliseconds, and once it is set (returns true) the kernel stops at its next ray
+    and :class:`RenderCancelled` is raised (the scene editor's preview: a newer edit cancels
+    the render of the previous one).
 
     *spectral_image*: also keep each pixel's radiance per wavelength band, returned as
     ``stats.spectral_image`` (a :class:`tracer.output.SpectralImage`; :func:`render_spectral`).
@@ -203,7 +224,7 @@ def render_with_stats(
     # interleaved parts of about CALL_SECONDS each behind a progress bar
     first, *_ = _interleaved(height, max(1, min(16, height), height // 64))
     rest = np.setdiff1d(np.arange(height, dtype=np.int64), first)
-    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum)
+    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum, cancel)
     per_row = (time.perf_counter() - t0) / first.size
     predicted = per_row * rest.size
     n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
@@ -216,7 +237,7 @@ def render_with_stats(
     try:
         for part in range(n_calls):
             rows = rest[part::n_calls]
-            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum)
+            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, cancel)
             if bar is not None:
                 bar.update(rows.size)
     finally:
