@@ -65,6 +65,10 @@ ROWS_PER_TASK = 8
 PROGRESS_AFTER = 0.5
 CALL_SECONDS = 0.25
 _RENDER_LOCK = threading.Lock()
+#: Hold this around any other parallel numba kernel (e.g. :func:`tracer.output.display_codes`)
+#: called from a thread while renders may run in others: numba's default (workqueue) thread
+#: pool runs one parallel kernel at a time.  Renders take it themselves.
+PARALLEL_LOCK = _RENDER_LOCK
 
 
 def _spread(rows):

@@ -14,6 +14,7 @@ quarter-size preview, then the full image (:class:`tracer.editor.preview.Preview
 
 from __future__ import annotations
 
+import html
 import os
 import signal
 import socket
@@ -30,7 +31,7 @@ from bokeh.plotting import figure
 from ..errors import SceneError
 from ..io import load_scene
 from ..movie_commands import BUBBLE_FIELDS, PHONG_FIELDS
-from ..output import save_image
+from ..output import display_codes, save_image
 from ..scene import Scene
 from .model import EditorModel, FieldError, format_number
 from .preview import PreviewRenderer, film_at_pixel
@@ -64,7 +65,7 @@ class _Field:
         self.input.value = str(v)
 
     def error(self, text):
-        self.message.object = text
+        self.message.object = f'<span class="msg">{html.escape(text)}</span>'
         self.message.visible = True
 
     def clear(self):
@@ -101,7 +102,13 @@ class EditorApp:
         self._build(view_px)
         self.preview = PreviewRenderer(self._on_image, self._on_render_error)
         self._fill_lists()
-        self.refresh()
+        if self._served():  # the first render once the page is connected (an image sent earlier can be lost)
+            pn.state.onload(self.refresh)
+        else:
+            self.refresh()
+
+    def _served(self):
+        return self._doc is not None and getattr(self._doc, "session_context", None) is not None
 
     # -- layout ----------------------------------------------------------------------------
     def _build(self, view_px):
@@ -151,7 +158,8 @@ class EditorApp:
         fig.image_rgba(image="image", x=0, y=0, dw=w, dh=h, source=self.source)
         fig.on_event(Tap, self._on_tap)
         self.figure = fig
-        self.image_pane = pn.pane.Bokeh(fig, css_classes=["editor-image"])
+        self.image_pane = pn.Column(pn.pane.Bokeh(fig, margin=0), css_classes=["editor-image"], width=fw, height=fh,
+                                    margin=0)
         self.spectrum_source = ColumnDataSource(data=dict(wl=[], R=[]))
         spec = figure(width=300, height=220, title="picked pixel: film reflectance", x_axis_label="wavelength (nm)",
                       y_axis_label="R", toolbar_location=None, x_range=(360, 780))
@@ -298,7 +306,7 @@ class EditorApp:
 
     def _say(self, text, error=False):
         color = "#b00020" if error else "#333"
-        self.status.object = f'<span style="color:{color}">{text}</span>' if text else ""
+        self.status.object = f'<span class="msg" style="color:{color}">{html.escape(text)}</span>' if text else ""
 
     def _edited(self, message):
         self._fill_lists()
@@ -429,9 +437,8 @@ class EditorApp:
         self._schedule(partial(self._say, f"render failed: {exc}", True))
 
     def _schedule(self, fn):
-        doc = self._doc
-        if doc is not None and getattr(doc, "session_context", None) is not None:
-            doc.add_next_tick_callback(fn)
+        if self._served():
+            self._doc.add_next_tick_callback(fn)
         else:  # a notebook (or no document yet): Panel and Bokeh push the change themselves
             fn()
             pn.io.push_notebook(self.image_pane)
@@ -476,6 +483,19 @@ def free_port(address="127.0.0.1") -> int:
         return s.getsockname()[1]
 
 
+def warm_up(scene=None):
+    """Load the compiled kernels a first edit needs (a tiny render, its display codes, a picked
+    pixel) so that the first person's first change is as quick as the next ones."""
+    from ..builtin import default_scene
+    from ..render import PARALLEL_LOCK, render
+
+    scene = scene if scene is not None else default_scene()
+    image = render(scene, width=8, height=8, progress=False)
+    with PARALLEL_LOCK:
+        display_codes(image)
+    film_at_pixel(scene, 4, 4, 8, 8)
+
+
 def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, height=None, quiet=False):
     """Serve the editor for *scene* at http://ADDRESS:PORT/ until Ctrl-C or SIGTERM (then the
     server stops and this returns).  *port* 0 picks a free one.  Each browser tab gets its own
@@ -483,6 +503,7 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
     if scene is not None and not isinstance(scene, Scene):
         scene = load_scene(scene)  # a bad file fails here, before the server starts
     port = port or free_port(address)
+    warm_up(scene)
 
     def app():
         return EditorApp(scene, width=width, height=height).layout

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..output import display_codes
-from ..render import RenderCancelled, render_with_stats
+from ..render import PARALLEL_LOCK, RenderCancelled, render_with_stats
 
 __all__ = ["PreviewRenderer", "PreviewImage", "film_at_pixel", "PREVIEW_DIVISOR"]
 
@@ -124,7 +124,8 @@ class PreviewRenderer:
             t0 = time.perf_counter()
             image, _ = render_with_stats(scene, **{**settings, "width": sw, "height": sh}, progress=False,
                                          cancel=cancel)
-            codes = display_codes(image, exposure=exposure)
+            with PARALLEL_LOCK:  # a parallel kernel too: not at the same time as another session's render
+                codes = display_codes(image, exposure=exposure)
             if cancel.is_set():
                 raise RenderCancelled("overtaken")
             self.on_image(PreviewImage(codes, stage, version, time.perf_counter() - t0,
