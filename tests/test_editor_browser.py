@@ -72,9 +72,7 @@ def test_load_fills_lists_and_bad_file_keeps_scene(editor, scene_file, tmp_path)
     before = editor.options("objects")
     editor.fill("scene_path", bad)
     editor.button("Load").click()
-    msg = editor.message("scene_path")
-    msg.wait_for(state="visible")
-    assert f"{bad}:" in msg.inner_text()  # the loader's FILE:LINE message
+    assert editor.expect_message("scene_path", f"{bad}:").startswith(f"{bad}:")  # the loader's FILE:LINE
     assert editor.options("objects") == before
 
     editor.fill("scene_path", scene_file)
@@ -88,13 +86,10 @@ def test_change_light_intensity_changes_pixels_and_bad_values_change_nothing(edi
     before = editor.screenshot()
     editor.fill("intensity", "abc")
     editor.button("Change").click()
-    msg = editor.message("intensity")
-    msg.wait_for(state="visible")
-    assert "'abc' is not a number" in msg.inner_text()
+    editor.expect_message("intensity", "'abc' is not a number")
     editor.fill("intensity", "-1")
     editor.button("Change").click()
-    msg.wait_for(state="visible")
-    assert "intensity must be >= 0" in msg.inner_text()
+    editor.expect_message("intensity", "intensity must be >= 0")
     editor.page.wait_for_timeout(300)
     assert editor.screenshot() == before  # the previous image stays
 
@@ -153,22 +148,19 @@ def test_parameters_settings_clear_and_readme_screenshot(editor):
     editor.select("objects", "young")
     editor.fill("swirl", "3")
     editor.button("Change parameters").click()
-    msg = editor.message("swirl")
-    msg.wait_for(state="visible")
-    assert "swirl must be >= 0 and <= 1, got 3" in msg.inner_text()
+    editor.expect_message("swirl", "swirl must be >= 0 and <= 1, got 3")
     editor.fill("swirl", "0.6")
     editor.click_and_wait("Change parameters")
     editor.fill("depth", "0")
     editor.button("Apply settings").click()
-    editor.message("depth").wait_for(state="visible")
-    assert "depth must be an integer from 1 to 1000" in editor.message("depth").inner_text()
+    editor.expect_message("depth", "depth must be an integer from 1 to 1000")
 
     box = editor.page.locator(".editor-image").bounding_box()
     editor.page.mouse.click(box["x"] + 0.3 * box["width"], box["y"] + 0.45 * box["height"])
     editor.page.locator(".editor-pick").get_by_text("young").wait_for()
     editor.page.wait_for_timeout(300)
     out = ROOT / "docs" / "images" / "editor.png"
-    editor.page.screenshot(path=str(out) + f".{os.getpid()}.tmp", full_page=False)
+    editor.page.screenshot(path=str(out) + f".{os.getpid()}.tmp", type="png")
     os.replace(str(out) + f".{os.getpid()}.tmp", out)
 
     editor.button("Clear").click()

@@ -172,6 +172,11 @@ class EditorPage:
         self.button(button).click()
         return self.wait_full(v)
 
+    def expect_message(self, name, text):
+        """Wait until field *name*'s inline message contains *text*; returns the message."""
+        self.page.locator(f".message-{name}").get_by_text(text).wait_for()
+        return self.message(name).inner_text()
+
     def status(self):
         loc = self.page.locator(".editor-status .msg")
         return loc.inner_text() if loc.count() else ""
