@@ -103,6 +103,8 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
     """
     import numba
 
+    if _cancelled(stop):  # between calls: stop before starting the next one
+        raise RenderCancelled("render cancelled")
     cancel = np.zeros(1, dtype=np.int64)
     failure = []
     done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early

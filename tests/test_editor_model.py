@@ -1,0 +1,148 @@
+"""The scene editor's model (tracer.editor.model) and preview, without widgets or a browser."""
+
+from __future__ import annotations
+
+import doctest
+import threading
+
+import numpy as np
+import pytest
+
+import tracer
+from tracer.editor import EditorModel, FieldError
+from tracer.editor import model as model_module
+from tracer.editor.preview import PreviewRenderer, film_at_pixel
+from tracer.render import RenderCancelled, render_with_stats
+
+pytestmark = pytest.mark.api
+SMALL = dict(width=24, height=24)
+
+
+def _render(scene):
+    return tracer.render(scene, progress=False, **SMALL)
+
+
+def test_docstring_examples():
+    assert doctest.testmod(model_module).failed == 0
+
+
+def test_edits_undo_and_commands_file_replays_to_the_edited_scene(tmp_path):
+    m = EditorModel()
+    m.change_light(1, 1, 4, 6, "3.5")
+    m.add_light("-2", 3, 5, 1)
+    m.delete_light(1)
+    m.change_parameters("old", profile="uniform", thickness_nm="420", n_film="1.4")
+    m.change_parameters("young", swirl="0.5", top_nm=150)
+    m.change_geometry("middle-aged", "0.1", 0, "-0.2", "1.3")
+    m.orbit(20)
+    m.zoom(1.5)
+    s = m.scene
+    assert [light.position for light in s.lights] == [(-2.0, 3.0, 5.0)]
+    old = s.bubbles[2]
+    assert (old.film.kind, old.film.thickness_nm, old.n_film) == ("uniform", 420.0, 1.4)
+    assert s.bubbles[1].radius == pytest.approx(0.42 * 1.3)
+
+    path = m.save_commands(tmp_path / "edits.txt")
+    frames = tracer.Timeline.from_file(m.loaded, path).frames(dict(m.render_settings(**SMALL)))
+    assert len(frames) == 1
+    assert np.array_equal(_render(frames[-1].scene), _render(s))
+
+    for _ in range(8):
+        assert m.undo()
+    assert not m.undo()
+    assert np.array_equal(_render(m.scene), _render(tracer.default_scene()))
+
+
+@pytest.mark.parametrize("call, field, text", [
+    (lambda m: m.change_light(1, "abc", 0, 0, 1), "x", "x: 'abc' is not a number"),
+    (lambda m: m.change_light(1, 0, 0, 0, "-1"), "intensity", "intensity must be >= 0 and <= 1e+15, got -1"),
+    (lambda m: m.change_light(7, 0, 0, 0, 1), "light", "no light 7"),
+    (lambda m: m.change_geometry("old", 0, 0, 0, "0"), "k", "k must be > 0"),
+    (lambda m: m.change_geometry("old", "1e16", 0, 0, 1), "dx", "dx must be >= -1e+15"),
+    (lambda m: m.change_parameters("old", swirl="2"), "swirl", "swirl must be >= 0 and <= 1, got 2"),
+    (lambda m: m.change_parameters("old", n_film="-3"), "n_film", "n_film must be 'water' or a number"),
+    (lambda m: m.change_parameters("old", thickness_nm="nan"), "thickness_nm", "thickness_nm must be"),
+    (lambda m: m.set_settings(depth="0"), "depth", "depth must be an integer from 1 to 1000, got 0"),
+    (lambda m: m.set_settings(spp="x"), "spp", "spp must be an integer from 1 to 65536"),
+    (lambda m: m.set_settings(exposure="99"), "exposure", "exposure must be a number of stops from -64 to 64"),
+    (lambda m: m.zoom("0"), "zoom", "zoom must be > 0"),
+])
+def test_bad_values_name_the_field_and_change_nothing(call, field, text):
+    m = EditorModel()
+    m.change_light(1, 1, 2, 3, 4)
+    before, version, commands = m.scene, m.version, m.commands_text()
+    with pytest.raises(FieldError) as err:
+        call(m)
+    assert err.value.field == field and text in str(err.value)
+    assert "\n" not in str(err.value)
+    assert (m.version, m.commands_text()) == (version, commands)
+    assert m.scene.lights == before.lights and m.scene.bubbles == before.bubbles
+
+
+def test_load_bad_file_keeps_scene_and_save_then_load_renders_the_same(tmp_path):
+    m = EditorModel()
+    m.change_geometry("old", 0.2, 0, 0, 1)
+    m.set_settings(depth=4, spectral_samples=8)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[camera]\nfov_deg = 'wide'\n", encoding="utf-8")
+    with pytest.raises(tracer.SceneError, match=f"^{bad}:"):
+        m.load(bad)
+    assert m.scene.bubbles[2].center[0] == pytest.approx(0.5)
+    path = m.save_scene(tmp_path / "edited.toml")
+    edited = m.scene
+    m2 = EditorModel().load(path)
+    assert m2.settings["depth"] == 4 and m2.settings["spectral_samples"] == 8
+    kw = m.render_settings(**SMALL)
+    assert np.array_equal(tracer.render(m2.scene, progress=False, **kw), tracer.render(edited, progress=False, **kw))
+
+
+def test_render_cancel_hook():
+    ev = threading.Event()
+    ev.set()
+    with pytest.raises(RenderCancelled):
+        render_with_stats(tracer.default_scene(), width=64, height=64, progress=False, cancel=ev)
+    image, _ = render_with_stats(tracer.default_scene(), progress=False, cancel=lambda: False, **SMALL)
+    assert np.array_equal(image, _render(tracer.default_scene()))
+
+
+def test_preview_renders_quarter_then_full_and_drops_overtaken_requests():
+    got = []
+    done = threading.Event()
+
+    def on_image(im):
+        got.append((im.version, im.stage, im.codes.shape))
+        if im.version == 2 and im.stage == "full":
+            done.set()
+
+    pr = PreviewRenderer(on_image)
+    scene = tracer.default_scene()
+    pr.request(scene, dict(width=96, height=96, depth=2), version=1)
+    pr.request(scene, dict(width=96, height=96, depth=2), version=2)
+    assert done.wait(120)
+    pr.close()
+    assert got[-2:] == [(2, "preview", (24, 24, 3)), (2, "full", (96, 96, 3))]
+    assert all(v in (1, 2) for v, _, _ in got) and got.count((1, "full", (96, 96, 3))) <= 1
+
+
+def test_film_at_pixel_is_the_first_bubble_film():
+    scene = tracer.default_scene()
+    m = EditorModel(scene)
+    m.change_parameters("old", profile="uniform", thickness_nm="300", swirl="0")
+    # the camera ray through the middle of the image of "old": aim at its centre
+    s = m.scene
+    sample = None
+    for col in range(0, 64):
+        for row in range(32, 64):
+            f = film_at_pixel(s, col, row, 64, 64)
+            if f is not None and f.bubble == "old":
+                sample = f
+                break
+        if sample is not None:
+            break
+    assert sample is not None and sample.thickness_nm == pytest.approx(300.0)
+    assert sample.reflectance.shape == sample.wavelengths_nm.shape
+    from bubbleoptics import film_reflectance
+
+    R = film_reflectance(sample.wavelengths_nm, 300.0, np.radians(sample.angle_deg), None)
+    assert np.allclose(sample.reflectance, R)
+    assert film_at_pixel(s, 0, 0, 64, 64) is None  # the sky
