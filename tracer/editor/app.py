@@ -69,8 +69,9 @@ class _Field:
         self.message.visible = True
 
     def clear(self):
-        self.message.object = ""
-        self.message.visible = False
+        if self.message.visible:
+            self.message.object = ""
+            self.message.visible = False
 
 
 def _number_text(v):
@@ -275,6 +276,10 @@ class EditorApp:
     def _guard(self, handler):
         """Run a button's handler: a FieldError goes under its field (or to the status line),
         nothing else changes."""
+        with pn.io.hold():  # the form's changes go to the page in one message
+            self._guard_held(handler)
+
+    def _guard_held(self, handler):
         for f in self._all_fields():
             f.clear()
         try:
@@ -309,8 +314,8 @@ class EditorApp:
         self.status.object = f'<span class="msg" style="color:{color}">{html.escape(text)}</span>' if text else ""
 
     def _edited(self, message):
+        self.refresh()  # first: the render starts while the lists and forms are updated
         self._fill_lists()
-        self.refresh()
         return message
 
     def on_load(self):

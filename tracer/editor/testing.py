@@ -104,12 +104,32 @@ _FIND_CANVAS = """(side) => {
   return out.find(c => c.width === Math.round(side * dpr)) || null;
 }"""
 _FINGERPRINT = """(c) => {
-  const g = c.getContext('2d');
-  const d = g.getImageData(0, 0, c.width, c.height).data;
+  const s = window.__small || (window.__small = Object.assign(document.createElement('canvas'), {width: 96, height: 96}));
+  const g = s.getContext('2d', {willReadFrequently: true});
+  g.drawImage(c, 0, 0, 96, 96);
+  const d = g.getImageData(0, 0, 96, 96).data;
   let h = 0;
-  for (let i = 0; i < d.length; i += 4 * 97) h = (h * 31 + d[i] + 7 * d[i + 1] + 13 * d[i + 2]) >>> 0;
+  for (let i = 0; i < d.length; i += 4) h = (h * 31 + d[i] + 7 * d[i + 1] + 13 * d[i + 2]) >>> 0;
   return h;
 }"""
+# window.__record(canvas): from now on, the page's time of every click (window.__clicks) and of
+# every change of the canvas's pixels (window.__changes), checked every animation frame.
+_RECORD = """(c) => {
+  const fp = %s;
+  window.__clicks = []; window.__changes = [];
+  if (!window.__clickHook) {
+    window.addEventListener('click', () => window.__clicks.push(performance.now()), true);
+    window.__clickHook = true;
+  }
+  let last = fp(c);
+  window.__recording = true;
+  const tick = () => {
+    const now = fp(c);
+    if (now !== last) { window.__changes.push(performance.now()); last = now; }
+    if (window.__recording) requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+}""" % _FINGERPRINT
 # Installed once: window.__watch(canvas) starts polling the canvas every animation frame and
 # resolves with performance.now() when its fingerprint changes.
 _WATCH = """(c) => {
@@ -203,6 +223,14 @@ class EditorPage:
         c = self.canvas()
         self.page.evaluate(_WATCH, c)
         return self.page.evaluate_handle("() => window.__watch(window.__canvas)")
+
+    def record(self):
+        """Start recording clicks and changes of the preview's pixels (:meth:`recorded`)."""
+        self.page.evaluate(_RECORD, self.canvas())
+
+    def recorded(self):
+        """``(click times, pixel change times)`` in ms of page time since :meth:`record`; stops it."""
+        return self.page.evaluate("() => { window.__recording = false; return [window.__clicks, window.__changes]; }")
 
     def now(self):
         return self.page.evaluate("() => performance.now()")

@@ -1,0 +1,81 @@
+"""The scene editor's latency, in a real browser: from a click on Change to the first updated
+preview on screen, and to the full-resolution image on screen.
+
+Run:  python benchmarks/editor_latency.py [--repeats N] [--quick]
+Writes ``data/derived/editor.csv``.
+
+``tracer edit --no-browser`` serves the built-in scene at 960x960 (the render defaults: depth
+10, 1 spp, 16 bands) in a subprocess; Playwright drives the system's Chromium
+(:mod:`tracer.editor.testing`).  Each repeat selects light 1, types a new intensity (not
+timed), and clicks **Change**.  In the page, a click listener records the click's time and a
+requestAnimationFrame loop records every change of the preview canvas's pixels (a fingerprint
+of every 97th pixel): the first change is the quarter-resolution preview (240x240) on screen,
+the last one, once the page says the full image of that edit is shown, the 960x960 image.
+Both include everything a person waits for: the websocket round trip, the model's edit, the
+render, the display codes, Bokeh's transfer of the RGBA image and its drawing.
+Targets (issue 12): first preview <= 150 ms, 960x960 refined <= 1 s.
+"""
+
+import os
+import statistics
+import sys
+from pathlib import Path
+
+from bubbleoptics.study.results import image_benchmark_arguments, provenance, write_csv
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "data" / "derived" / "editor.csv"
+
+
+def spread(values):
+    return statistics.median(values), min(values), max(values)
+
+
+def main(argv=None):
+    from tracer.editor.testing import EditorPage, chromium_path, editor_server, launch
+
+    args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 10, 2, argv, size=960,
+                                                    quick_size=240)
+    if chromium_path() is None:
+        sys.exit("benchmarks/editor_latency.py: no Chromium (Debian/Ubuntu: apt-get install chromium)")
+    load_before = os.getloadavg()[0]
+    first, full = [], []
+    with editor_server(width=size, height=size, cwd=ROOT) as url, launch() as browser:
+        ed = EditorPage(browser, url)
+        ed.select("lights", "1:")
+        for i in range(repeats + 1):  # the first edit is a warm-up, not counted
+            ed.fill("intensity", 2.0 + 0.75 * ((i % 4) + 1))
+            ed.page.wait_for_timeout(200)
+            ed.record()
+            v = ed.version()
+            ed.button("Change").click()
+            ed.wait_full(v)
+            ed.page.wait_for_timeout(150)
+            clicks, changes = ed.recorded()
+            if not clicks or not changes:
+                raise RuntimeError(f"repeat {i}: no click or no change recorded ({clicks}, {changes})")
+            t0 = clicks[-1]
+            after = [t - t0 for t in changes if t > t0]
+            if i:
+                first.append(after[0])
+                full.append(after[-1])
+            print(f"repeat {i}: first preview {after[0]:.0f} ms, full {after[-1]:.0f} ms "
+                  f"({len(after)} changes)", file=sys.stderr)
+    rows = []
+    for case, values, target in (("first_preview", first, 150.0), ("full_resolution", full, 1000.0)):
+        med, lo, hi = spread(values)
+        rows.append(dict(case=case, width=size if case == "full_resolution" else size // 4,
+                         height=size if case == "full_resolution" else size // 4, repeats=len(values),
+                         ms_median=med, ms_min=lo, ms_max=hi, target_ms=target, meets_target=med <= target))
+        print(f"{case}: median {med:.0f} ms [{lo:.0f}, {hi:.0f}] (target {target:.0f} ms)", file=sys.stderr)
+    load = f"machine load average {load_before:.1f} before, {os.getloadavg()[0]:.1f} after (shared machine)"
+    note = (f"{load}; {len(first)} repeats after one warm-up, median (min-max); built-in scene, {size}x{size} "
+            f"full image, depth 10, 1 spp, 16 bands; times from the click on Change to the canvas change in "
+            f"headless Chromium (requestAnimationFrame)")
+    write_csv(args.out, rows, [provenance("benchmarks/editor_latency.py", note,
+                                          "regenerate with: python benchmarks/editor_latency.py")])
+    print(args.out)
+
+
+if __name__ == "__main__":
+    main()
