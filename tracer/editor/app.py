@@ -19,6 +19,7 @@ import os
 import signal
 import socket
 import sys
+import time
 from functools import partial
 from pathlib import Path
 
@@ -100,6 +101,8 @@ class EditorApp:
         self.stage = ""  # the stage on screen: "", "preview", "full", "cleared"
         self.shown_version = 0
         self.pick = None
+        self._t_edit = None
+        self._server_ms, self._render_ms = {}, {}
         self._build(view_px)
         self.preview = PreviewRenderer(self._on_image, self._on_render_error)
         self._fill_lists()
@@ -276,6 +279,7 @@ class EditorApp:
     def _guard(self, handler):
         """Run a button's handler: a FieldError goes under its field (or to the status line),
         nothing else changes."""
+        self._t_edit = time.perf_counter()
         with pn.io.hold():  # the form's changes go to the page in one message
             self._guard_held(handler)
 
@@ -455,9 +459,15 @@ class EditorApp:
         rgba[..., 3] = 255
         self.source.data = dict(image=[np.ascontiguousarray(rgba[::-1]).view(np.uint32)[..., 0]])
         self.stage, self.shown_version = stage, version
-        text = {"preview": f"preview {w}x{h} ({seconds * 1e3:.0f} ms), refining...",
-                "full": f"{w}x{h} ({seconds * 1e3:.0f} ms)", "cleared": "cleared"}[stage]
-        self.stage_text.object = f'<span class="stage-{stage}" data-version="{version}">{text}</span>'
+        text = {"preview": f"preview {w}x{h} (render {seconds * 1e3:.0f} ms), refining...",
+                "full": f"{w}x{h} (render {seconds * 1e3:.0f} ms)", "cleared": "cleared"}[stage]
+        # the server's share of the wait: from the button's handler to this image being sent
+        server_ms = (time.perf_counter() - self._t_edit) * 1e3 if self._t_edit else 0.0
+        self._server_ms[stage] = server_ms
+        self._render_ms[stage] = seconds * 1e3
+        data = " ".join(f'data-{k}-{st}="{v[st]:.1f}"' for k, v in (("server", self._server_ms),
+                                                                    ("render", self._render_ms)) for st in v)
+        self.stage_text.object = f'<span class="stage-{stage}" data-version="{version}" {data}>{text}</span>'
 
     def _on_tap(self, event):
         col, row = int(event.x), self.height - 1 - int(event.y)
