@@ -146,3 +146,51 @@ def test_film_at_pixel_is_the_first_bubble_film():
     R = film_reflectance(sample.wavelengths_nm, 300.0, np.radians(sample.angle_deg), None)
     assert np.allclose(sample.reflectance, R)
     assert film_at_pixel(s, 0, 0, 64, 64) is None  # the sky
+
+
+def test_load_coursework_format():
+    m = EditorModel().load("data/scenes/coursework_three_bubbles.txt")
+    assert [kind for _, kind in m.objects()].count("bubble") == 3 and m.lights
+    m.change_light(1, 100, 200, 1000, 0.5)
+    assert tracer.Timeline.from_text(m.loaded, m.commands_text()).frames()[-1].scene.lights[0].intensity == 0.5
+
+
+# ------------------------------------------------------------------------------------------
+# the Panel app's wiring, without a browser (the browser tests: tests/test_editor_browser.py)
+# ------------------------------------------------------------------------------------------
+def test_app_handlers_and_inline_messages():
+    pytest.importorskip("panel")
+    from tracer.editor.app import EditorApp
+
+    app = EditorApp(width=32, height=32)
+    assert app.preview.idle(120)
+    assert app.stage == "full" and app.image.shape == (32, 32, 3)
+    version, image = app.model.version, app.image
+    app.light_fields["intensity"].value = "abc"
+    app._guard(app.on_change_light)
+    msg = app.light_fields["intensity"].message
+    assert msg.visible and "is not a number" in msg.object
+    assert app.model.version == version and app.image is image  # nothing changed
+    app.light_fields["intensity"].value = "7"
+    app._guard(app.on_change_light)
+    assert not msg.visible and app.model.lights[0].intensity == 7
+    assert app.preview.idle(120) and app.shown_version == app.model.version
+    app._guard(app.on_clear)
+    assert app.stage == "cleared"
+    app.preview.close()
+    assert callable(tracer.editor)
+
+
+def test_cli_edit_bad_input_is_one_line(tmp_path, capsys):
+    pytest.importorskip("panel")
+    from tracer.cli import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[camera]\nfov_deg = 'wide'\n", encoding="utf-8")
+    assert main(["edit", str(bad), "--no-browser"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"{bad}:") and "\n" not in err
+    with pytest.raises(SystemExit) as exit_:
+        main(["edit", "--port", "99999"])
+    assert exit_.value.code == 2
+    assert "must be an integer from 0 to 65535" in capsys.readouterr().err
