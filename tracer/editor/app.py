@@ -44,6 +44,12 @@ DEFAULT_SIZE = 960
 #: The preview's side on the page, in CSS pixels.
 VIEW_PX = 560
 _FILM_FIELDS = [f for f in BUBBLE_FIELDS if f != "shininess"]
+#: A widget's caption: ``label`` from Panel 1.9 on (``name`` is deprecated there), ``name`` before.
+_LABEL = "label" if "label" in pn.widgets.TextInput.param else "name"
+
+
+def _button(text):
+    return pn.widgets.Button(**{_LABEL: text})
 
 
 class _Field:
@@ -51,7 +57,7 @@ class _Field:
 
     def __init__(self, name, label=None, value="", width=110):
         self.name = name
-        self.input = pn.widgets.TextInput(name=label or name, value=str(value), width=width,
+        self.input = pn.widgets.TextInput(**{_LABEL: label or name}, value=str(value), width=width,
                                           css_classes=[f"field-{name}"])
         self.message = pn.pane.HTML("", visible=False, css_classes=["field-message", f"message-{name}"],
                                     styles={"color": "#b00020", "font-size": "12px"}, margin=(0, 5), width=width + 60)
@@ -118,35 +124,35 @@ class EditorApp:
     def _build(self, view_px):
         F = _Field
         self.scene_path = F("scene_path", "scene file", getattr(self.model.loaded, "source", ""), width=300)
-        self.load_button = pn.widgets.Button(name="Load", button_type="primary")
-        self.objects = pn.widgets.Select(name="objects", options=[], size=6, width=300)
-        self.lights = pn.widgets.Select(name="lights", options=[], size=4, width=300)
+        self.load_button = _button("Load")
+        self.objects = pn.widgets.Select(**{_LABEL: "objects"}, options=[], size=6, width=300)
+        self.lights = pn.widgets.Select(**{_LABEL: "lights"}, options=[], size=4, width=300)
         self.light_fields = {k: F(k) for k in ("x", "y", "z", "intensity")}
-        self.change_button = pn.widgets.Button(name="Change")
-        self.add_button = pn.widgets.Button(name="Add")
-        self.delete_button = pn.widgets.Button(name="Delete")
+        self.change_button = _button("Change")
+        self.add_button = _button("Add")
+        self.delete_button = _button("Delete")
         self.param_fields = {k: F(k) for k in list(PHONG_FIELDS) + ["shininess_bubble", "n_film"] + _FILM_FIELDS}
-        self.param_fields["shininess_bubble"].input.name = "shininess"
-        self.profile = pn.widgets.Select(name="profile", options=["uniform", "draining", "map"], width=110)
-        self.params_button = pn.widgets.Button(name="Change parameters")
+        setattr(self.param_fields["shininess_bubble"].input, _LABEL, "shininess")
+        self.profile = pn.widgets.Select(**{_LABEL: "profile"}, options=["uniform", "draining", "map"], width=110)
+        self.params_button = _button("Change parameters")
         self.geometry_fields = {k: F(k, value=v) for k, v in (("dx", 0), ("dy", 0), ("dz", 0), ("k", 1))}
-        self.geometry_button = pn.widgets.Button(name="Change geometry")
+        self.geometry_button = _button("Change geometry")
         self.camera_fields = {"orbit": F("orbit", "orbit (degrees)", 15), "zoom": F("zoom", "zoom (factor)", 1.25)}
-        self.orbit_button = pn.widgets.Button(name="Orbit")
-        self.zoom_button = pn.widgets.Button(name="Zoom")
+        self.orbit_button = _button("Orbit")
+        self.zoom_button = _button("Zoom")
         s = self.model.settings
         self.setting_fields = {"depth": F("depth", value=s["depth"]), "spp": F("spp", value=s["spp"]),
                                "spectral_samples": F("spectral_samples", "bands", s["spectral_samples"]),
                                "exposure": F("exposure", value=format_number(s["exposure"]))}
-        self.settings_button = pn.widgets.Button(name="Apply settings")
-        self.undo_button = pn.widgets.Button(name="Undo")
-        self.clear_button = pn.widgets.Button(name="Clear")
+        self.settings_button = _button("Apply settings")
+        self.undo_button = _button("Undo")
+        self.clear_button = _button("Clear")
         self.out_image = F("out_image", "image file (.png)", "editor.png", width=220)
-        self.save_image_button = pn.widgets.Button(name="Save image")
+        self.save_image_button = _button("Save image")
         self.out_scene = F("out_scene", "scene file (.toml)", "edited.toml", width=220)
-        self.save_scene_button = pn.widgets.Button(name="Save scene")
+        self.save_scene_button = _button("Save scene")
         self.out_commands = F("out_commands", "commands file", "edits.txt", width=220)
-        self.save_commands_button = pn.widgets.Button(name="Save commands")
+        self.save_commands_button = _button("Save commands")
         self.status = pn.pane.HTML("", css_classes=["editor-status"], width=560)
         self.stage_text = pn.pane.HTML("", css_classes=["editor-stage"])
 
@@ -405,7 +411,7 @@ class EditorApp:
     def _out_path(self, field):
         text = field.value.strip()
         if not text:
-            raise FieldError(field.name, f"{field.input.name}: give a file name")
+            raise FieldError(field.name, f"{getattr(field.input, _LABEL)}: give a file name")
         return Path(text).expanduser()
 
     def on_save_image(self):
