@@ -80,6 +80,14 @@ def test_load_fills_lists_and_bad_file_keeps_scene(editor, scene_file, tmp_path)
     assert editor.options("objects") == ["young (bubble)", "middle-aged (bubble)", "old (bubble)"]
     assert len(editor.options("lights")) == 1
 
+    # a file chosen in the browser, in the coursework's format
+    v = editor.version()
+    editor.page.locator(".editor-upload input[type=file]").set_input_files(
+        str(ROOT / "data" / "scenes" / "coursework_three_bubbles.txt"))
+    editor.wait_full(v)
+    assert sum(o.endswith("(bubble)") for o in editor.options("objects")) == 3
+    assert "coursework_three_bubbles.txt" in editor.status()
+
 
 def test_change_light_intensity_changes_pixels_and_bad_values_change_nothing(editor):
     editor.select("lights", "1:")

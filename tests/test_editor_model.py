@@ -178,7 +178,8 @@ def test_app_handlers_and_inline_messages():
     app._guard(app.on_clear)
     assert app.stage == "cleared"
     app.preview.close()
-    assert callable(tracer.editor)
+    cell = tracer.editor(tracer.default_scene(), width=16, height=16)  # what a notebook cell shows
+    assert hasattr(cell, "_repr_mimebundle_")
 
 
 def test_cli_edit_bad_input_is_one_line(tmp_path, capsys):

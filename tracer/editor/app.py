@@ -125,6 +125,10 @@ class EditorApp:
         F = _Field
         self.scene_path = F("scene_path", "scene file", getattr(self.model.loaded, "source", ""), width=300)
         self.load_button = _button("Load")
+        # or a file from the person's computer: saved under its own name in a folder of this
+        # session's, then loaded as a path is (its FILE:LINE messages name that copy)
+        self.upload = pn.widgets.FileInput(accept=".toml,.txt,.scene", css_classes=["editor-upload"])
+        self._upload_dir = None
         self.objects = pn.widgets.Select(**{_LABEL: "objects"}, options=[], size=6, width=300)
         self.lights = pn.widgets.Select(**{_LABEL: "lights"}, options=[], size=4, width=300)
         self.light_fields = {k: F(k) for k in ("x", "y", "z", "intensity")}
@@ -187,6 +191,7 @@ class EditorApp:
             (self.save_scene_button, self.on_save_scene), (self.save_commands_button, self.on_save_commands),
         ]:
             button.on_click(lambda event, h=handler: self._guard(h))
+        self.upload.param.watch(lambda e: self._guard(self.on_upload), "value")
         self.objects.param.watch(lambda e: self._fill_object_form(), "value")
         self.lights.param.watch(lambda e: self._fill_light_form(), "value")
         self.profile.param.watch(lambda e: self._show_film_fields(), "value")
@@ -201,7 +206,7 @@ class EditorApp:
                                   row([pf[k] for k in ("thickness_nm", "top_nm", "bottom_nm")]),
                                   row([pf[k] for k in ("exponent", "swirl", "swirl_scale")]), margin=0)
         controls = pn.Column(
-            pn.pane.Markdown("### Scene"), pn.Row(self.scene_path.panel, self.load_button),
+            pn.pane.Markdown("### Scene"), pn.Row(self.scene_path.panel, self.load_button), self.upload,
             self.objects, self.lights,
             pn.pane.Markdown("### Light"), row(self.light_fields.values()),
             pn.Row(self.change_button, self.add_button, self.delete_button),
@@ -335,6 +340,20 @@ class EditorApp:
         self.model.load(path)  # SceneError: the old scene stays
         self._edited(None)
         return f"loaded {path}"
+
+    def on_upload(self):
+        """**Load** a file chosen in the browser (the file input)."""
+        import tempfile
+
+        if self.upload.value is None:
+            return None
+        name = Path(self.upload.filename or "scene.toml").name
+        if self._upload_dir is None:
+            self._upload_dir = tempfile.TemporaryDirectory(prefix="tracer-edit-")
+        path = Path(self._upload_dir.name) / name
+        path.write_bytes(self.upload.value)
+        self.scene_path.value = str(path)
+        return self.on_load()
 
     def on_change_light(self):
         n = self.selected_light()
