@@ -195,3 +195,20 @@ def test_cli_edit_bad_input_is_one_line(tmp_path, capsys):
         main(["edit", "--port", "99999"])
     assert exit_.value.code == 2
     assert "must be an integer from 0 to 65535" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("stop", ["SIGINT", "SIGTERM"])
+def test_tracer_edit_serves_and_stops_cleanly(stop):
+    """``tracer edit`` answers on its port, and Ctrl-C (SIGINT) or SIGTERM stop it with status 0
+    (:func:`tracer.editor.testing.editor_server` checks the status)."""
+    pytest.importorskip("panel")
+    import signal
+    import urllib.request
+    from pathlib import Path
+
+    from tracer.editor.testing import editor_server
+
+    with editor_server(width=16, height=16, cwd=Path(__file__).resolve().parents[1],
+                       stop=getattr(signal, stop)) as url:
+        page = urllib.request.urlopen(url, timeout=30).read().decode()
+        assert "tracer scene editor" in page

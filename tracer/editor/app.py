@@ -114,8 +114,15 @@ class EditorApp:
         self._fill_lists()
         if self._served():  # the first render once the page is connected (an image sent earlier can be lost)
             pn.state.onload(self.refresh)
+            pn.state.on_session_destroyed(lambda context: self.close())
         else:
             self.refresh()
+
+    def close(self):
+        """Stop the preview's thread (a served page's session does this when it ends)."""
+        self.preview.close()
+        if self._upload_dir is not None:
+            self._upload_dir.cleanup()
 
     def _served(self):
         return self._doc is not None and getattr(self._doc, "session_context", None) is not None
@@ -577,5 +584,5 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
 def _open_browser(url):
     import webbrowser
 
-    if os.environ.get("DISPLAY") or sys.platform in ("darwin", "win32"):
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or sys.platform in ("darwin", "win32"):
         webbrowser.open(url)

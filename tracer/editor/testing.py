@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -37,9 +38,9 @@ def chromium_path():
 
 
 @contextmanager
-def editor_server(scene=None, *, width=320, height=320, cwd=None, timeout=120):
+def editor_server(scene=None, *, width=320, height=320, cwd=None, timeout=120, stop=signal.SIGTERM):
     """``tracer edit --no-browser`` in a subprocess on a free port; yields its URL, then stops it
-    with SIGTERM (checking that it stops)."""
+    with the signal *stop* (SIGTERM; SIGINT is Ctrl-C) and checks that it exits with status 0."""
     from .app import free_port
 
     port = free_port()
@@ -63,15 +64,15 @@ def editor_server(scene=None, *, width=320, height=320, cwd=None, timeout=120):
                 time.sleep(0.2)
         yield url
     finally:
-        proc.terminate()
+        proc.send_signal(stop)
         try:
             proc.wait(timeout=20)
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
         log.close()
-    if proc.returncode not in (0, -15):
-        raise RuntimeError(f"tracer edit did not stop cleanly on SIGTERM (status {proc.returncode})")
+    if proc.returncode != 0:
+        raise RuntimeError(f"tracer edit did not stop cleanly on signal {stop} (status {proc.returncode})")
 
 
 @contextmanager
