@@ -19,6 +19,7 @@ import os
 import signal
 import socket
 import sys
+import threading
 import time
 from functools import partial
 from pathlib import Path
@@ -536,11 +537,14 @@ def warm_up(scene=None):
     from ..builtin import default_scene
     from ..render import PARALLEL_LOCK, render
 
+    from bubbleoptics import film_color
+
     scene = scene if scene is not None else default_scene()
     image = render(scene, width=8, height=8, progress=False)
     with PARALLEL_LOCK:
         display_codes(image)
     film_at_pixel(scene, 4, 4, 8, 8)
+    film_color(300.0)  # its first call imports and tabulates the colour science (seconds)
 
 
 def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, height=None, quiet=False):
@@ -550,7 +554,8 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
     if scene is not None and not isinstance(scene, Scene):
         scene = load_scene(scene)  # a bad file fails here, before the server starts
     port = port or free_port(address)
-    warm_up(scene)
+    # in the background, so that the server answers at once (a first edit meanwhile waits for it)
+    threading.Thread(target=warm_up, args=(scene,), name="tracer-editor-warm-up", daemon=True).start()
 
     def app():
         return EditorApp(scene, width=width, height=height).layout

@@ -10,7 +10,7 @@ the person always waits for the latest edit only.
 camera ray (the ray through the pixel's centre, as the renderer's first sample) against the
 scene's bubbles and, at the *first bubble it hits*, evaluates that bubble's film thickness there
 (:func:`tracer.films.film_thickness`, the renderer's own profile) and the reflectance spectrum of
-its front film at that angle of incidence (:func:`bubbleoptics.film_reflectance`), with the
+its front film at that angle of incidence (:func:`bubbleoptics.film_reflectance`, 360-780 nm every 1 nm), with the
 colour of that spectrum under D65 (:func:`bubbleoptics.film_color`). It ignores what lies in
 front of the bubble (a sphere, a mesh) and the light that reaches it: it shows the film, not the
 pixel's radiance.
@@ -160,6 +160,7 @@ def film_at_pixel(scene, col, row, width, height):
     (*col*, *row*) of a *width* x *height* image meets (see the module docstring), as a
     :class:`FilmSample`; None when the ray meets no bubble."""
     from bubbleoptics import film_color, film_reflectance
+    from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM
 
     from ..films import film_thickness
     from ..geometry import intersect_sphere
@@ -183,10 +184,10 @@ def film_at_pixel(scene, col, row, width, height):
     thickness = float(film_thickness(packed.films[0], packed.film_maps, n))
     cos_i = min(1.0, abs(float(np.dot(d, n))))
     theta = math.acos(cos_i)
-    wl = np.arange(360.0, 781.0, 2.0)
+    wl = DEFAULT_WAVELENGTHS_NM  # 360-780 nm every 1 nm, film_color's grid
     n_film = None if b.n_film == "water" else _film_index(b, wl)
     R = np.asarray(film_reflectance(wl, thickness, theta, n_film), float)
-    srgb = np.asarray(film_color(thickness, theta, n_film, wavelengths_nm=wl), float)
+    srgb = np.asarray(film_color(thickness, theta, n_film), float)
     return FilmSample(b.name, thickness, math.degrees(theta), wl, R, tuple(srgb.tolist()))
 
 
