@@ -128,18 +128,15 @@ def test_film_at_pixel_is_the_first_bubble_film():
     scene = tracer.default_scene()
     m = EditorModel(scene)
     m.change_parameters("old", profile="uniform", thickness_nm="300", swirl="0")
-    # the camera ray through the middle of the image of "old": aim at its centre
+    # the pixel where the centre of "old" is seen (the camera's projection, square image)
     s = m.scene
-    sample = None
-    for col in range(0, 64):
-        for row in range(32, 64):
-            f = film_at_pixel(s, col, row, 64, 64)
-            if f is not None and f.bubble == "old":
-                sample = f
-                break
-        if sample is not None:
-            break
-    assert sample is not None and sample.thickness_nm == pytest.approx(300.0)
+    origin, fwd, right, up = s.camera.basis()
+    p = np.asarray(s.bubbles[2].center) - origin
+    t = np.tan(np.radians(s.camera.fov_deg) / 2)
+    x, y = p @ right / (p @ fwd) / t, p @ up / (p @ fwd) / t
+    col, row = int((x + 1) / 2 * 64), int((1 - y) / 2 * 64)
+    sample = film_at_pixel(s, col, row, 64, 64)
+    assert sample is not None and sample.bubble == "old" and sample.thickness_nm == pytest.approx(300.0)
     assert sample.reflectance.shape == sample.wavelengths_nm.shape
     from bubbleoptics import film_reflectance
 
