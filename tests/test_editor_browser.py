@@ -166,7 +166,7 @@ def test_parameters_settings_clear_and_readme_screenshot(editor):
     box = editor.page.locator(".editor-image").bounding_box()
     editor.page.mouse.click(box["x"] + 0.3 * box["width"], box["y"] + 0.45 * box["height"])
     editor.page.locator(".editor-pick").get_by_text("young").wait_for()
-    editor.page.wait_for_timeout(300)
+    editor.page.wait_for_timeout(1500)  # the spectrum's plot is drawn after its data arrive
     out = ROOT / "docs" / "images" / "editor.png"
     editor.page.screenshot(path=str(out) + f".{os.getpid()}.tmp", type="png")
     os.replace(str(out) + f".{os.getpid()}.tmp", out)
