@@ -16,7 +16,9 @@ render, the display codes, Bokeh's transfer of the RGBA image and its drawing.  
 split it: ``server_ms_median``, from the server's button handler to the image being handed to
 Bokeh (the edit, the lists' refresh, the render, the display codes), and ``render_ms_median``,
 the render alone (:func:`tracer.render_with_stats`, packing included); the rest of ``ms`` is
-the browser's click, the websocket both ways, and Bokeh's decoding and drawing.
+the browser's click, the websocket both ways, and Bokeh's decoding and drawing.  After each
+repeat a click on **Clear** (which shows a 1x1 black image and renders nothing) is timed the same
+way: the ``clear_no_render`` row is the editor's round trip without a render.
 Targets (issue 12): first preview <= 150 ms, 960x960 refined <= 1 s.
 """
 
@@ -43,7 +45,7 @@ def main(argv=None):
     if chromium_path() is None:
         sys.exit("benchmarks/editor_latency.py: no Chromium (Debian/Ubuntu: apt-get install chromium)")
     load_before = os.getloadavg()[0]
-    first, full = [], []
+    first, full, clears = [], [], []
     servers, renders = {"preview": [], "full": []}, {"preview": [], "full": []}
     with editor_server(width=size, height=size, cwd=ROOT) as url, launch() as browser:
         ed = EditorPage(browser, url)
@@ -72,10 +74,24 @@ def main(argv=None):
                 for st in ("preview", "full"):
                     servers[st].append(server[st])
                     renders[st].append(render[st])
-            print(f"repeat {i}: first preview {after[0]:.0f} ms, full {after[-1]:.0f} ms ({len(after)} changes); "
+            # Clear: the same round trip with no render (a 1x1 black image): the editor's overhead
+            ed.page.wait_for_timeout(100)
+            ed.record()
+            ed.button("Clear").click()
+            ed.page.locator(".editor-stage .stage-cleared").wait_for()
+            ed.page.wait_for_function("() => window.__changes.length >= 1", timeout=10000)
+            c_clicks, c_changes = ed.recorded()
+            cleared = [t - c_clicks[-1] for t in c_changes if t > c_clicks[-1]][0]
+            if i:
+                clears.append(cleared)
+            print(f"repeat {i}: clear {cleared:.0f} ms; first preview {after[0]:.0f} ms, full {after[-1]:.0f} ms ({len(after)} changes); "
                   f"server: preview sent at {server['preview']:.0f} ms (render {render['preview']:.0f}), full "
                   f"at {server['full']:.0f} ms (render {render['full']:.0f})", file=sys.stderr)
     rows = []
+    med, lo, hi = spread(clears)
+    rows.append(dict(case="clear_no_render", width=1, height=1, repeats=len(clears), ms_median=med, ms_min=lo,
+                     ms_max=hi))
+    print(f"clear (no render): median {med:.0f} ms [{lo:.0f}, {hi:.0f}]", file=sys.stderr)
     for case, stage, values, target in (("first_preview", "preview", first, 150.0),
                                         ("full_resolution", "full", full, 1000.0)):
         med, lo, hi = spread(values)
@@ -89,8 +105,11 @@ def main(argv=None):
     note = (f"{load}; {len(first)} repeats after one warm-up, median (min-max); built-in scene, {size}x{size} "
             f"full image, depth 10, 1 spp, 16 bands; times from the click on Change to the canvas change in "
             f"headless Chromium (requestAnimationFrame)")
+    fields = ["case", "width", "height", "repeats", "ms_median", "ms_min", "ms_max", "target_ms", "meets_target",
+              "server_ms_median", "render_ms_median"]
     write_csv(args.out, rows, [provenance("benchmarks/editor_latency.py", note,
-                                          "regenerate with: python benchmarks/editor_latency.py")])
+                                          "regenerate with: python benchmarks/editor_latency.py")],
+              fieldnames=fields, na_rep="")
     print(args.out)
 
 
