@@ -173,9 +173,9 @@ def _edit(args):
     """``tracer edit [SCENE]``: a bad scene file or a missing Panel is one line and status 2."""
     from .errors import SceneError
 
-    try:
-        import panel  # noqa: F401
-    except ImportError:
+    import importlib.util
+
+    if importlib.util.find_spec("panel") is None:
         return _fail("tracer edit: error: the scene editor needs Panel: pip install 'bubbleoptics[editor]'")
     from .editor.app import serve
 

@@ -50,7 +50,7 @@ from .scene import Camera, PointLight, Scene
 from .scene_text import read_scene_text
 
 __all__ = ["Timeline", "Frame", "CommandsError", "MAX_FRAMES", "COMMANDS", "PHONG_FIELDS", "BUBBLE_FIELDS",
-           "SWITCH_FIELDS", "frame_key"]
+           "SWITCH_FIELDS", "FILM_KIND_FIELDS", "frame_key"]
 
 #: The most frames a timeline may hold (a minute at 24 fps is 1440).
 MAX_FRAMES = 1_000_000
@@ -99,6 +99,8 @@ _FILM_FIELDS = {
 #: ``draining`` (a ``map`` needs its table, from a scene file); ``n_film``: ``water`` or a
 #: constant real index in (0, MAX_INDEX].
 SWITCH_FIELDS = {"profile": ("uniform", "draining"), "n_film": ("water", "a number > 0 and <= 100")}
+#: The film fields of ``set`` that each film kind uses (public: the scene editor shows these).
+FILM_KIND_FIELDS = _FILM_FIELDS
 _ALIASES = {"colour": "color", "thickness": "thickness_nm", "top": "top_nm", "bottom": "bottom_nm"}
 
 

@@ -32,7 +32,7 @@ from bokeh.plotting import figure
 
 from ..errors import SceneError
 from ..io import load_scene
-from ..movie_commands import BUBBLE_FIELDS, PHONG_FIELDS
+from ..movie_commands import BUBBLE_FIELDS, FILM_KIND_FIELDS, PHONG_FIELDS
 from ..output import display_codes, save_image
 from ..scene import Scene
 from .model import EditorModel, FieldError, format_number
@@ -284,10 +284,8 @@ class EditorApp:
         self._show_film_fields()
 
     def _show_film_fields(self):
-        from ..movie_commands import _FILM_FIELDS as used  # the fields each film kind uses
-
         for k in _FILM_FIELDS:
-            self.param_fields[k].panel.visible = k in used.get(self.profile.value, ())
+            self.param_fields[k].panel.visible = k in FILM_KIND_FIELDS.get(self.profile.value, ())
 
     # -- actions ----------------------------------------------------------------------------
     def _all_fields(self):

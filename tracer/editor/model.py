@@ -36,7 +36,7 @@ from ..output import MAX_EXPOSURE
 from ..render import DEFAULTS
 from ..scene import Scene
 
-__all__ = ["EditorModel", "FieldError", "FIELDS", "SETTINGS", "check_field", "format_number"]
+__all__ = ["EditorModel", "FieldError", "FIELDS", "SETTINGS", "check_field", "check_settings_field", "format_number"]
 
 
 class FieldError(ValueError):

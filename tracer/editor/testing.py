@@ -206,7 +206,7 @@ class EditorPage:
         return self.page.locator(".editor-image").screenshot(path=path)
 
     def select(self, which, label_start):
-        sel = self.page.locator(f"select").nth({"objects": 0, "lights": 1}[which])
+        sel = self.page.locator("select").nth({"objects": 0, "lights": 1}[which])
         options = sel.locator("option").all_inner_texts()
         label = next(o for o in options if o.startswith(label_start))
         sel.select_option(label=label)
