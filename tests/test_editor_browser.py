@@ -159,6 +159,12 @@ def test_parameters_settings_clear_and_readme_screenshot(editor):
     editor.expect_message("swirl", "swirl must be >= 0 and <= 1, got 3")
     editor.fill("swirl", "0.6")
     editor.click_and_wait("Change parameters")
+    # camera orbit, then undo: the render comes back pixel for pixel
+    before = editor.screenshot()
+    editor.click_and_wait("Orbit")
+    assert np.abs(_pixels(editor.screenshot()) - _pixels(before)).max() > 20
+    editor.click_and_wait("Undo")
+    assert editor.screenshot() == before
     editor.fill("depth", "0")
     editor.button("Apply settings").click()
     editor.expect_message("depth", "depth must be an integer from 1 to 1000")
