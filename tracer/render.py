@@ -64,10 +64,12 @@ ROWS_PER_TASK = 8
 #: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
 PROGRESS_AFTER = 0.5
 CALL_SECONDS = 0.25
-_RENDER_LOCK = threading.Lock()
-#: Hold this around any other parallel numba kernel (e.g. :func:`tracer.output.display_codes`)
-#: called from a thread while renders may run in others: numba's default (workqueue) thread
-#: pool runs one parallel kernel at a time.  Renders take it themselves.
+_RENDER_LOCK = threading.RLock()
+#: Hold this around any other parallel numba kernel (e.g. :func:`tracer.output.display_codes`,
+#: the film index tables :func:`tracer.pack.pack_scene` computes) called from a thread while
+#: renders may run in others: numba's default (workqueue) thread pool is not thread-safe and
+#: runs one parallel kernel at a time.  Renders take it themselves around each kernel call; it
+#: is re-entrant, so a caller may hold it around a whole :func:`render_with_stats`.
 PARALLEL_LOCK = _RENDER_LOCK
 
 

@@ -504,7 +504,15 @@ class EditorApp:
         col, row = int(event.x), self.height - 1 - int(event.y)
         if not (0 <= col < self.width and 0 <= row < self.height):
             return
-        sample = film_at_pixel(self.model.scene, col, row, self.width, self.height)
+        # in a thread: the pick waits for a render in progress, the page must not
+        scene = self.model.scene
+        threading.Thread(target=self._pick, args=(scene, col, row), name="tracer-editor-pick", daemon=True).start()
+
+    def _pick(self, scene, col, row):
+        sample = film_at_pixel(scene, col, row, self.width, self.height)
+        self._schedule(partial(self._show_pick, col, row, sample))
+
+    def _show_pick(self, col, row, sample):
         self.pick = (col, row, sample)
         if sample is None:
             self.spectrum_source.data = dict(wl=[], R=[])
@@ -538,11 +546,14 @@ def warm_up(scene=None):
     from bubbleoptics import film_color
 
     scene = scene if scene is not None else default_scene()
-    image = render(scene, width=8, height=8, progress=False)
+    import importlib
+
     with PARALLEL_LOCK:
-        display_codes(image)
-    film_at_pixel(scene, 4, 4, 8, 8)
-    film_color(300.0)  # its first call imports and tabulates the colour science (seconds)
+        display_codes(render(scene, width=8, height=8, progress=False))
+        film_at_pixel(scene, 4, 4, 8, 8)
+    importlib.import_module("colour")  # colour-science, which film_color's first call imports (seconds)
+    with PARALLEL_LOCK:
+        film_color(300.0)
 
 
 def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, height=None, quiet=False):

@@ -122,9 +122,11 @@ class PreviewRenderer:
         stages.append(("full", w, h))
         for stage, sw, sh in stages:
             t0 = time.perf_counter()
-            image, _ = render_with_stats(scene, **{**settings, "width": sw, "height": sh}, progress=False,
-                                         cancel=cancel)
-            with PARALLEL_LOCK:  # a parallel kernel too: not at the same time as another session's render
+            # the whole stage under the lock: packing and the display codes run parallel kernels
+            # too, which must not meet another thread's (another session's render, a picked pixel)
+            with PARALLEL_LOCK:
+                image, _ = render_with_stats(scene, **{**settings, "width": sw, "height": sh}, progress=False,
+                                             cancel=cancel)
                 codes = display_codes(image, exposure=exposure)
             if cancel.is_set():
                 raise RenderCancelled("overtaken")
@@ -158,7 +160,15 @@ def _camera_ray(scene, px, py, width, height):
 def film_at_pixel(scene, col, row, width, height):
     """The film of the first bubble that the camera ray through the centre of pixel
     (*col*, *row*) of a *width* x *height* image meets (see the module docstring), as a
-    :class:`FilmSample`; None when the ray meets no bubble."""
+    :class:`FilmSample`; None when the ray meets no bubble.  It waits for a render running in
+    another thread (:data:`tracer.render.PARALLEL_LOCK`)."""
+    if not scene.bubbles:
+        return None
+    with PARALLEL_LOCK:  # packing and the spectra run parallel kernels (see tracer.render.PARALLEL_LOCK)
+        return _film_at_pixel(scene, col, row, width, height)
+
+
+def _film_at_pixel(scene, col, row, width, height):
     from bubbleoptics import film_color, film_reflectance
     from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM
 
@@ -166,8 +176,6 @@ def film_at_pixel(scene, col, row, width, height):
     from ..geometry import intersect_sphere
     from ..pack import _film_index, pack_scene
 
-    if not scene.bubbles:
-        return None
     o, d = _camera_ray(scene, col + 0.5, row + 0.5, width, height)
     best, best_t = None, math.inf
     for i, b in enumerate(scene.bubbles):
