@@ -209,3 +209,17 @@ def test_tracer_edit_serves_and_stops_cleanly_on_ctrl_c():
                        stop=signal.SIGINT) as url:
         page = urllib.request.urlopen(url, timeout=30).read().decode()
         assert "tracer scene editor" in page
+
+
+def test_picking_while_the_preview_renders_is_safe():
+    """numba's workqueue pool is not thread-safe: a pick (packing, spectra: parallel kernels)
+    while the preview renders in its thread must wait for it (tracer.render.PARALLEL_LOCK), not
+    run beside it."""
+    scene = tracer.default_scene()
+    done = threading.Event()
+    pr = PreviewRenderer(lambda im: done.set() if im.stage == "full" else None)
+    pr.request(scene, dict(width=128, height=128), version=1)
+    picks = [film_at_pixel(scene, 40, 60, 128, 128) for _ in range(10)]
+    assert done.wait(120) and pr.idle(120)
+    pr.close()
+    assert all(p is not None and p.thickness_nm == picks[0].thickness_nm for p in picks)
