@@ -223,3 +223,28 @@ def test_picking_while_the_preview_renders_is_safe():
     assert done.wait(120) and pr.idle(120)
     pr.close()
     assert all(p is not None and p.thickness_nm == picks[0].thickness_nm for p in picks)
+
+
+@pytest.mark.notebook
+def test_editor_in_a_notebook_cell():
+    """``tracer.editor(scene)`` as the last line of a cell, in a Jupyter kernel: the cell's output
+    is Panel's app (its exec mimebundle), and its background render (which pushes the image to
+    the cell) raises nothing."""
+    pytest.importorskip("panel")
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_code_cell(f"import sys; sys.path.insert(0, {str(root)!r})\n"
+                                  "import panel as pn; pn.extension()\nimport tracer\n"
+                                  "app = tracer.editor(tracer.default_scene(), width=32, height=32)\napp"),
+        nbformat.v4.new_code_cell("import time; time.sleep(2); print('rendered')"),
+    ]
+    nbclient.NotebookClient(nb, timeout=120, kernel_name="python3").execute()
+    outputs = [o for c in nb.cells for o in c.get("outputs", [])]
+    assert any("application/vnd.holoviews_exec.v0+json" in o.get("data", {}) for o in outputs)
+    assert not [o for o in outputs if o.get("output_type") == "error" or o.get("name") == "stderr"]
+    assert outputs[-1].get("text", "").strip() == "rendered"
