@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench paper clean clean-cache activate
+.PHONY: demo test chromium bench paper clean clean-cache activate
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,8 +25,21 @@ activate: $(STAMP)
 
 ## make test: the whole test suite, including every notebook in quick mode, on two workers
 ## (pytest-xdist; each compiles what it needs into numba's shared on-disk cache).
-test: $(STAMP)
+## The scene editor's browser tests drive the system's Chromium (no browser download): when it is
+## missing and this runs as root on Debian/Ubuntu, it is installed with apt-get; otherwise those
+## tests skip with one line saying how to get it (and fail under CI, where they must run).
+test: $(STAMP) chromium
 	BUBBLEOPTICS_QUICK=1 $(PY) -m pytest -q -n 2
+
+chromium:
+	@if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 \
+	    || [ -n "$$TRACER_CHROMIUM" ]; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	    echo "installing Debian's chromium for the editor's browser tests (apt-get)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
+	else \
+	    echo "no chromium: the editor's browser tests will skip (sudo apt-get install chromium, or set TRACER_CHROMIUM)"; \
+	fi
 
 ## make bench: the speed benchmarks (not part of the tests; results go to data/derived/).
 bench: $(STAMP)
@@ -36,6 +49,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/stability.py
 	$(PY) benchmarks/time_vs_error.py
 	$(PY) benchmarks/throughput.py
+	$(PY) benchmarks/editor_latency.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
 paper: $(STAMP)

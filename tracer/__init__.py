@@ -39,4 +39,14 @@ __all__ = [
     "PointLight",
     "Camera",
     "Environment",
+    "editor",
 ]
+
+
+def __getattr__(name):
+    # the scene editor, imported when first used (it needs the optional Panel only when called)
+    if name == "editor":
+        import importlib
+
+        return importlib.import_module(".editor", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -158,7 +158,42 @@ def build_parser():
     res.add_argument("--json", action="store_true", help="print one JSON object")
     _add_render_options(res)
     _add_movie_commands(sub, epilog)
+    ed = sub.add_parser("edit", help="the scene editor in the browser (needs the editor extra: panel)",
+                        description="Serve the scene editor for SCENE (or the built-in bubble scene) at "
+                                    "http://ADDRESS:PORT/ until Ctrl-C or SIGTERM (docs/editor.md).")
+    ed.add_argument("scene", nargs="?", metavar="SCENE", help="scene file (TOML or the coursework's text format)")
+    ed.add_argument("--port", type=_port, default=5006, help="TCP port (0: a free one; default 5006)")
+    ed.add_argument("--address", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
+    ed.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
+    ed.add_argument("--width", type=_setting_type("width"), help="image width (default: the scene's, else 960)")
+    ed.add_argument("--height", type=_setting_type("height"), help="image height (default: the scene's, else 960)")
     return parser
+
+
+def _port(text):
+    if not (text.isascii() and text.isdigit()) or not 0 <= int(text) <= 65535:
+        raise argparse.ArgumentTypeError(f"must be an integer from 0 to 65535, got {text[:40]!r}")
+    return int(text)
+
+
+def _edit(args):
+    """``tracer edit [SCENE]``: a bad scene file or a missing Panel is one line and status 2."""
+    from .errors import SceneError
+
+    import importlib.util
+
+    if importlib.util.find_spec("panel") is None:
+        return _fail("tracer edit: error: the scene editor needs Panel: pip install 'bubbleoptics[editor]'")
+    from .editor.app import serve
+
+    try:
+        scene = _load_scene(args.scene) if args.scene else None
+        return serve(scene, port=args.port, address=args.address, show=not args.no_browser, width=args.width,
+                     height=args.height)
+    except SceneError as err:
+        return _fail(str(err))
+    except OSError as err:  # e.g. the port is taken
+        return _fail(f"tracer edit: error: {err}")
 
 
 def _fail(message):
@@ -265,6 +300,8 @@ def _main(argv=None):
     args = build_parser().parse_args(argv)
     if args.command in ("movie", "film"):
         return _movie(args)
+    if args.command == "edit":
+        return _edit(args)
     from .cluster import check_cluster_options, cluster_client
     from .errors import SceneError
     from .output import save_spectral

@@ -50,7 +50,7 @@ from .scene import Camera, PointLight, Scene
 from .scene_text import read_scene_text
 
 __all__ = ["Timeline", "Frame", "CommandsError", "MAX_FRAMES", "COMMANDS", "PHONG_FIELDS", "BUBBLE_FIELDS",
-           "frame_key"]
+           "SWITCH_FIELDS", "FILM_KIND_FIELDS", "frame_key"]
 
 #: The most frames a timeline may hold (a minute at 24 fps is 1440).
 MAX_FRAMES = 1_000_000
@@ -94,6 +94,13 @@ _FILM_FIELDS = {
     "draining": ("top_nm", "bottom_nm", "exponent", "swirl", "swirl_scale"),
     "map": ("swirl", "swirl_scale"),
 }
+#: Fields ``set`` switches on a bubble (not numbers that can move in a straight line): they take
+#: their new value at the last frame of the next ``render``.  ``profile``: ``uniform`` or
+#: ``draining`` (a ``map`` needs its table, from a scene file); ``n_film``: ``water`` or a
+#: constant real index in (0, MAX_INDEX].
+SWITCH_FIELDS = {"profile": ("uniform", "draining"), "n_film": ("water", "a number > 0 and <= 100")}
+#: The film fields of ``set`` that each film kind uses (public: the scene editor shows these).
+FILM_KIND_FIELDS = _FILM_FIELDS
 _ALIASES = {"colour": "color", "thickness": "thickness_nm", "top": "top_nm", "bottom": "bottom_nm"}
 
 
@@ -338,6 +345,42 @@ class _Set:
 
 
 @dataclass
+class _Switch:
+    ref: tuple
+    name: str  # profile or n_film (SWITCH_FIELDS)
+    value: object
+
+    def __call__(self, st, t):
+        if t < 1.0:
+            return
+        o = st.obj(self.ref)
+        if self.name == "profile":
+            st.put(self.ref, dataclasses.replace(o, film=dataclasses.replace(o.film, kind=self.value)))
+        else:
+            st.put(self.ref, dataclasses.replace(o, n_film=self.value))
+
+
+def _switch_value(f, values):
+    """The value of switch field *f* (:data:`SWITCH_FIELDS`) given as the words *values*."""
+    if len(values) != 1:
+        raise ValueError(f"{f} takes 1 value, got {len(values)}")
+    v = str(values[0])
+    if f == "profile":
+        if v not in SWITCH_FIELDS["profile"]:
+            raise ValueError(f"profile must be 'uniform' or 'draining', got {v!r}")
+        return v
+    if v == "water":
+        return v
+    try:
+        n = float(v)
+    except ValueError:
+        raise ValueError(f"n_film must be 'water' or a number > 0 and <= {MAX_INDEX:g}, got {v!r}") from None
+    if not 0 < n <= MAX_INDEX:
+        raise ValueError(f"n_film must be 'water' or a number > 0 and <= {MAX_INDEX:g}, got {v}")
+    return n
+
+
+@dataclass
 class _LightSet:
     light_id: int
     d_position: tuple
@@ -512,6 +555,28 @@ class Timeline:
             raise CommandsError(path, None, "no frames: the file has no 'render K' command")
         return tl
 
+    # -- one command at a time (the scene editor) ------------------------------------------
+    @property
+    def scene(self) -> Scene:
+        """The scene after every change so far (complete, whether or not rendered yet); a
+        copy, so editing it changes nothing here."""
+        return self._state.copy().scene
+
+    def command(self, line: str) -> "Timeline":
+        """Apply one line of the commands file (``docs/movies.md``), e.g. ``'light 1 0 2 3 1.5'``;
+        a blank or comment-only line does nothing.  A bad line raises ValueError with the message
+        the file would give after ``COMMANDS:LINE:``, and changes nothing.  The scene editor
+        applies its edits this way, so that its edit log is a commands file."""
+        try:
+            tokens = _tokens(line)
+            if tokens:
+                _dispatch(self, _Reader("<command>"), None, tokens)
+        except SceneError as err:  # a number, from the scene files' reader (it names the verb)
+            raise ValueError(err.message) from None
+        except ValueError as err:
+            raise ValueError(f"{tokens[0]}: {err}" if tokens else str(err)) from None
+        return self
+
     # -- objects --------------------------------------------------------------------------
     def _ref(self, name):
         refs = self._names.get(name)
@@ -565,13 +630,15 @@ class Timeline:
 
     def set(self, name, field_name, *values):
         """Set an optical parameter of object *name* (:data:`PHONG_FIELDS` for spheres and
-        meshes, :data:`BUBBLE_FIELDS` for bubbles, as the TOML format names them; ``colour``
-        and ``thickness`` are accepted for ``color`` and ``thickness_nm``)."""
+        meshes, :data:`BUBBLE_FIELDS` and :data:`SWITCH_FIELDS` for bubbles, as the TOML format
+        names them; ``colour`` and ``thickness`` are accepted for ``color`` and ``thickness_nm``)."""
         ref = self._ref(name)
         o = self._state.obj(ref)
         f = _ALIASES.get(field_name, field_name)
+        if ref[0] == "bubbles" and f in SWITCH_FIELDS:
+            return self._change(_Switch(ref, f, _switch_value(f, values)))
         if ref[0] == "bubbles":
-            allowed = ("shininess",) + _FILM_FIELDS[o.film.kind]
+            allowed = ("shininess",) + _FILM_FIELDS[o.film.kind] + tuple(SWITCH_FIELDS)
             table = BUBBLE_FIELDS
             what = f"bubble '{name}' ({o.film.kind} film)"
         else:
@@ -795,7 +862,10 @@ def _dispatch(tl: Timeline, r: _Reader, line, tokens):
             raise ValueError(f"expected 'set {COMMANDS['set']}', found {len(args)} field(s) after 'set'")
         name, f = args[0], args[1]
         tl._ref(name)
-        values = [r.number(line, tok, f"set: '{name}' {f}") for tok in args[2:]]
+        if f in SWITCH_FIELDS:  # words, not numbers
+            values = args[2:]
+        else:
+            values = [r.number(line, tok, f"set: '{name}' {f}") for tok in args[2:]]
         tl.set(name, f, *values)
     elif verb == "light":
         if not args:

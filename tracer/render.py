@@ -18,7 +18,7 @@ from .pack import pack_scene
 from .scene import Scene
 
 __all__ = ["render", "render_with_stats", "render_spectral", "resolve_settings", "RenderStats", "save_image",
-           "DEFAULTS"]
+           "DEFAULTS", "RenderCancelled"]
 
 #: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
@@ -29,6 +29,19 @@ __all__ = ["render", "render_with_stats", "render_spectral", "resolve_settings",
 #: then averages them over each band (:func:`tracer.pack.resolve_spectral_method`).
 DEFAULTS = dict(width=960, height=960, depth=10, spp=1, threshold=1e-3, spectral_samples=16, seed=0,
                 spectral_method="auto")
+
+
+class RenderCancelled(Exception):
+    """A render stopped because its *cancel* argument said so (:func:`render_with_stats`)."""
+
+
+def _cancelled(cancel) -> bool:
+    """Whether *cancel* (None, a ``threading.Event`` or a callable returning a truth value) asks
+    the render to stop."""
+    if cancel is None:
+        return False
+    is_set = getattr(cancel, "is_set", None)
+    return bool(is_set() if is_set is not None else cancel())
 
 
 @dataclass
@@ -51,7 +64,13 @@ ROWS_PER_TASK = 8
 #: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
 PROGRESS_AFTER = 0.5
 CALL_SECONDS = 0.25
-_RENDER_LOCK = threading.Lock()
+_RENDER_LOCK = threading.RLock()
+#: Hold this around any other parallel numba kernel (e.g. :func:`tracer.output.display_codes`,
+#: the film index tables :func:`tracer.pack.pack_scene` computes) called from a thread while
+#: renders may run in others: numba's default (workqueue) thread pool is not thread-safe and
+#: runs one parallel kernel at a time.  Renders take it themselves around each kernel call; it
+#: is re-entrant, so a caller may hold it around a whole :func:`render_with_stats`.
+PARALLEL_LOCK = _RENDER_LOCK
 
 
 def _spread(rows):
@@ -74,17 +93,20 @@ _NO_SPECTRUM = None
 
 
 def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
-               spectrum=_NO_SPECTRUM, row0=0):
+               spectrum=_NO_SPECTRUM, row0=0, stop=None):
     """Render the rows *rows* into ``image[rows - row0]`` and ``counts[rows - row0]`` (and
     ``spectrum[rows - row0]``, (rows, width, C), unless it is :data:`_NO_SPECTRUM`).
 
     The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
     Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
     threads to stop at their next ray, and raises ``KeyboardInterrupt`` (the partial image is
-    the caller's to discard).
+    the caller's to discard).  *stop* (see :func:`_cancelled`) is polled the same way: when
+    it asks, the kernel is stopped likewise and :class:`RenderCancelled` raised.
     """
     import numba
 
+    if _cancelled(stop):  # between calls: stop before starting the next one
+        raise RenderCancelled("render cancelled")
     cancel = np.zeros(1, dtype=np.int64)
     failure = []
     done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early
@@ -103,8 +125,9 @@ def _rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thres
         worker = threading.Thread(target=work, name="tracer-render", daemon=True)
         try:
             worker.start()
-            while not done.wait(0.05):
-                pass
+            while not done.wait(0.005 if stop is not None else 0.05):
+                if _cancelled(stop):
+                    raise RenderCancelled("render cancelled")
         except BaseException:
             cancel[0] = 1
             # the kernel must have stopped before the next one starts: wait, whatever comes
@@ -181,8 +204,14 @@ def render_with_stats(
     progress=None,
     spectral_image=False,
     client=None,
+    cancel=None,
 ):
     """Render and return ``(image, RenderStats)``; see :func:`render`.
+
+    *cancel*: None, a ``threading.Event`` or a callable; while the render runs it is polled
+    every few milliseconds, and once it is set (returns true) the kernel stops at its next ray
+    and :class:`RenderCancelled` is raised (the scene editor's preview: a newer edit cancels
+    the render of the previous one).
 
     *spectral_image*: also keep each pixel's radiance per wavelength band, returned as
     ``stats.spectral_image`` (a :class:`tracer.output.SpectralImage`; :func:`render_spectral`).
@@ -200,8 +229,10 @@ def render_with_stats(
     if client is None:
         warm_up(packed)
         t0 = time.perf_counter()
-        image, counts, spectrum = _render_here(packed, s, 0, height, spectral_image, show)
+        image, counts, spectrum = _render_here(packed, s, 0, height, spectral_image, show, cancel)
     else:
+        if cancel is not None:
+            raise ValueError("cancel applies to a local render, not to one on a Dask cluster (client)")
         from .cluster import render_tiles
 
         image, counts, spectrum = render_tiles(client, packed, s, spectral_image, show)
@@ -216,12 +247,13 @@ def render_with_stats(
     return image, stats
 
 
-def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show):
+def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show, stop=None):
     """Render rows ``[row0, row1)`` of the image of settings *s* here, on numba's threads:
     ``(image, counts, spectrum)`` of ``row1 - row0`` rows (spectrum None unless
     *spectral_image*).  A first call on every 16th row measures the scene; the rest in one call
     if short, else in interleaved parts of about :data:`CALL_SECONDS` each, behind a progress
-    bar when *show* and the rest is predicted to take over :data:`PROGRESS_AFTER`."""
+    bar when *show* and the rest is predicted to take over :data:`PROGRESS_AFTER`.  *stop*: see
+    :func:`_rows_call` (:class:`RenderCancelled`)."""
     width, height, spp, seed, depth, threshold = (s[k] for k in ("width", "height", "spp", "seed", "depth",
                                                                   "threshold"))
     n = row1 - row0
@@ -231,7 +263,7 @@ def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show):
     t0 = time.perf_counter()
     first = row0 + _interleaved(n, max(1, min(16, n), n // 64))[0]
     rest = np.setdiff1d(np.arange(row0, row1, dtype=np.int64), first)
-    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0)
+    _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0, stop)
     predicted = (time.perf_counter() - t0) / first.size * rest.size
     n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
     bar = None
@@ -242,7 +274,8 @@ def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show):
     try:
         for part in range(n_calls):
             rows = rest[part::n_calls]
-            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0)
+            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0,
+                       stop)
             if bar is not None:
                 bar.update(rows.size)
     finally:
