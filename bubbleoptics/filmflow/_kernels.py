@@ -18,8 +18,7 @@ __all__ = [
     "rigid_step_nb",
     "evaporate_line_nb",
     "evaporate_nb",
-    "plug_theta_sweep_nb",
-    "plug_phi_sweep_nb",
+    "plug_sweep_nb",
 ]
 
 _JIT = dict(cache=True, error_model="numpy")
@@ -116,16 +115,21 @@ def evaporate_line_nb(h, depth, area):
 
 @njit(**_JIT_PARALLEL)
 def evaporate_nb(h, depth, area):
-    """:func:`evaporate_line_nb` on every column of *h* (n_theta, n_phi); returns the volume (m³)."""
-    nph = h.shape[1]
-    col = np.zeros(nph)
+    """:func:`evaporate_line_nb` on every row of *h* (n_theta, n_phi), row j of area area[j];
+    returns the volume removed (m³)."""
+    nt = h.shape[0]
+    row = np.zeros(nt)
     if depth == 0.0:
         return 0.0
-    for k in prange(nph):
-        line = h[:, k].copy()
-        col[k] = evaporate_line_nb(line, depth, area)
-        h[:, k] = line
-    return col.sum()
+    for j in prange(nt):
+        s = 0.0
+        for k in range(h.shape[1]):
+            old = h[j, k]
+            new = max(old - depth, 0.0)
+            h[j, k] = new
+            s += old - new
+        row[j] = s * area[j]
+    return row.sum()
 
 
 @njit(**_JIT_PARALLEL)
@@ -174,123 +178,158 @@ def rigid_step_nb(h, dt, area, face_len, sin_f, k_lub, evaporation, cfl, max_sub
 
 
 @njit(**_JIT)
-def _line_solve_nb(s, n, cyclic):
-    if cyclic:
-        cyclic_tridiagonal_solve_nb(s[_A], s[_B], s[_C], s[_D], s[_X], s[_CP], s[_DP], s[_Z], n)
-    else:
-        tridiagonal_solve_nb(s[_A], s[_B], s[_C], s[_D], s[_X], s[_CP], s[_DP], n)
+def _factor_lines_nb(A, B, C, CP, W, n, k0, k1):
+    """LU (Thomas) factors of the tridiagonal systems of lines k0..k1-1 (line k is column k of
+    the (n, m) arrays A, B, C: sub-, main, super-diagonal): CP the modified super-diagonal, W the
+    reciprocal pivots.  Innermost loops run over the lines, contiguous, so they vectorise."""
+    for k in range(k0, k1):
+        W[0, k] = 1.0 / B[0, k]
+        CP[0, k] = C[0, k] * W[0, k]
+    for i in range(1, n):
+        for k in range(k0, k1):
+            w = 1.0 / (B[i, k] - A[i, k] * CP[i - 1, k])
+            W[i, k] = w
+            CP[i, k] = C[i, k] * w
 
 
 @njit(**_JIT)
-def _plug_line_nb(h, G, v, n, area, face_len, dist, gforce, dt, rho, drag, two_rt, s, cyclic):
-    """One implicit line update of plug flow along a θ column or a φ row (in place).
+def _substitute_lines_nb(A, CP, W, D, X, n, k0, k1):
+    """Solve with the factors of :func:`_factor_lines_nb` for right-hand sides D (n, m) into X
+    (X may be D)."""
+    for k in range(k0, k1):
+        X[0, k] = D[0, k] * W[0, k]
+    for i in range(1, n):
+        for k in range(k0, k1):
+            X[i, k] = (D[i, k] - A[i, k] * X[i - 1, k]) * W[i, k]
+    for i in range(n - 2, -1, -1):
+        for k in range(k0, k1):
+            X[i, k] -= CP[i, k] * X[i + 1, k]
 
-    *h*, *G*: the n cells of the line; *v*: its n + 1 face velocities (face i between cells i-1
-    and i; for a periodic line face n is face 0); *area*, *dist* (centre spacing), *face_len*
-    and *gforce* (tangential gravity, m s⁻²) per face (n + 1 each; face_len 0 closes a face).
 
-    1. Momentum with the Marangoni force implicit, drag implicit, gravity explicit:
+@njit(**_JIT)
+def _lines_prepare_nb(A, B, C, CP, W, Z, n, k0, k1, cyclic):
+    """Factor the line systems.  Periodic lines (row 0 coupled to row n-1 by A[0], row n-1 to
+    row 0 by C[n-1]) are solved by Sherman-Morrison: the matrix is B' + u vᵀ with
+    u = (γ, 0, ..., C[n-1]), v = (1, 0, ..., A[0]/γ), γ = -B[0]; B is overwritten by the
+    tridiagonal B' (so B'[0] = 2 B[0], from which the solve gets γ back), and B' z = u is
+    solved into Z."""
+    if cyclic:
+        for k in range(k0, k1):
+            g = -B[0, k]
+            B[0, k] -= g
+            B[n - 1, k] -= A[0, k] * C[n - 1, k] / g
+    _factor_lines_nb(A, B, C, CP, W, n, k0, k1)
+    if cyclic:
+        for i in range(1, n - 1):
+            for k in range(k0, k1):
+                Z[i, k] = 0.0
+        for k in range(k0, k1):
+            Z[0, k] = -0.5 * B[0, k]
+            Z[n - 1, k] = C[n - 1, k]
+        _substitute_lines_nb(A, CP, W, Z, Z, n, k0, k1)
+
+
+@njit(**_JIT)
+def _lines_solve_nb(A, B, CP, W, Z, D, X, n, k0, k1, cyclic):
+    """Solve the line systems prepared by :func:`_lines_prepare_nb` for D into X (X may be D)."""
+    _substitute_lines_nb(A, CP, W, D, X, n, k0, k1)
+    if cyclic:
+        for k in range(k0, k1):
+            r = A[0, k] / (-0.5 * B[0, k])
+            f = (X[0, k] + r * X[n - 1, k]) / (1.0 + Z[0, k] + r * Z[n - 1, k])
+            for i in range(n):
+                X[i, k] -= f * Z[i, k]
+
+
+@njit(**_JIT)
+def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, drag, two_rt, s, cyclic):
+    """One implicit plug-flow update of lines k0..k1-1 (in place).
+
+    Line k is column k of *h*, *G* (n cells) and of *v* (n + 1 face velocities, face i between
+    cells i - 1 and i; for periodic lines face n is face 0 and both rows hold its value);
+    *area* (n, m), and per face *face_len*, *dist* (centre spacing), *gforce* (tangential
+    gravity, m s⁻²), all (n + 1, m); a face of length 0 is closed.  *s*: scratch (N_SCRATCH, n + 1, m).
+
+    1. Momentum with the Marangoni force and the drag implicit, gravity explicit:
        :math:`\\rho h_f(v' - v) = \\Delta t[\\rho h_f g_t - 2R_gT(\\Gamma'_i - \\Gamma'_{i-1})/d - C_a v']`,
        :math:`h_f` the face mean; with surfactant continuity
        :math:`A_j(\\Gamma'_j - \\Gamma_j) = -\\Delta t(\\ell\\Gamma_f v')|^{j+1}_{j}` it gives one
-       symmetric, diagonally dominant tridiagonal system for Γ' (the 1-D form of the
+       symmetric, diagonally dominant tridiagonal system for Γ' per line (the 1-D form of the
        system [Huang2020] solve in 2-D); it fixes v'.
     2. Transport of h and Γ by v', implicit first-order upwind: an M-matrix, so h, Γ stay >= 0
        for any dt, and exactly conservative.  Γ' of step 1 is only used to find v'.
     """
-    a, b, c, d, x = s[_A], s[_B], s[_C], s[_D], s[_X]
-    vstar, beta, cc, q = s[_VSTAR], s[_BETA], s[_CC], s[_Q]
-    for i in range(n + 1):
-        if face_len[i] == 0.0:
-            vstar[i] = 0.0
-            beta[i] = 0.0
-            cc[i] = 0.0
-            q[i] = 0.0
-            continue
+    A, B, C, D, X, CP, W = s[_A], s[_B], s[_C], s[_D], s[_X], s[_CP], s[_DP]
+    VS, BE, CC, Q, Z = s[_VSTAR], s[_BETA], s[_CC], s[_Q], s[_Z]
+    first = 0 if cyclic else 1
+    for i in range(first, n):
         lo = i - 1 if i > 0 else n - 1
-        hi = i if i < n else 0
-        hf = 0.5 * (h[lo] + h[hi])
-        gf = 0.5 * (G[lo] + G[hi])
-        den = rho * hf + drag * dt
-        vstar[i] = rho * hf * (v[i] + dt * gforce[i]) / den
-        beta[i] = dt * two_rt / (dist[i] * den)
-        cc[i] = dt * face_len[i] * gf * beta[i]
-        q[i] = dt * face_len[i] * gf * vstar[i]
+        for k in range(k0, k1):
+            hf = 0.5 * (h[lo, k] + h[i, k])
+            gf = 0.5 * (G[lo, k] + G[i, k])
+            inv = 1.0 / (rho * hf + drag * dt)
+            vs = rho * hf * (v[i, k] + dt * gforce[i, k]) * inv
+            be = dt * two_rt * inv / dist[i, k]
+            t = dt * face_len[i, k] * gf
+            VS[i, k] = vs
+            BE[i, k] = be
+            CC[i, k] = t * be
+            Q[i, k] = t * vs
+    for k in range(k0, k1):
+        if cyclic:
+            VS[n, k], BE[n, k], CC[n, k], Q[n, k] = VS[0, k], BE[0, k], CC[0, k], Q[0, k]
+        else:
+            VS[0, k] = BE[0, k] = CC[0, k] = Q[0, k] = 0.0
+            VS[n, k] = BE[n, k] = CC[n, k] = Q[n, k] = 0.0
     for j in range(n):
-        a[j] = -cc[j]
-        c[j] = -cc[j + 1]
-        b[j] = area[j] + cc[j] + cc[j + 1]
-        d[j] = area[j] * G[j] - (q[j + 1] - q[j])
-    _line_solve_nb(s, n, cyclic)
-    for i in range(n + 1):
-        if face_len[i] == 0.0:
-            v[i] = 0.0
-            continue
+        for k in range(k0, k1):
+            A[j, k] = -CC[j, k]
+            C[j, k] = -CC[j + 1, k]
+            B[j, k] = area[j, k] + CC[j, k] + CC[j + 1, k]
+            D[j, k] = area[j, k] * G[j, k] - (Q[j + 1, k] - Q[j, k])
+    _lines_prepare_nb(A, B, C, CP, W, Z, n, k0, k1, cyclic)
+    _lines_solve_nb(A, B, CP, W, Z, D, X, n, k0, k1, cyclic)
+    for i in range(first, n):
         lo = i - 1 if i > 0 else n - 1
-        hi = i if i < n else 0
-        v[i] = vstar[i] - beta[i] * (x[hi] - x[lo])
-    # implicit upwind transport: cc <- outflow-to-+ side weight p, q <- weight m
+        for k in range(k0, k1):
+            v[i, k] = VS[i, k] - BE[i, k] * (X[i, k] - X[lo, k])
+    for k in range(k0, k1):
+        if cyclic:
+            v[n, k] = v[0, k]
+        else:
+            v[0, k] = 0.0
+            v[n, k] = 0.0
+    # implicit upwind transport; CC <- weight p = max(f, 0), Q <- m = max(-f, 0), f = dt l v'
     for i in range(n + 1):
-        f = dt * face_len[i] * v[i]
-        cc[i] = f if f > 0.0 else 0.0
-        q[i] = -f if f < 0.0 else 0.0
+        for k in range(k0, k1):
+            f = dt * face_len[i, k] * v[i, k]
+            CC[i, k] = max(f, 0.0)
+            Q[i, k] = max(-f, 0.0)
     for j in range(n):
-        a[j] = -cc[j]
-        c[j] = -q[j + 1]
-        b[j] = area[j] + cc[j + 1] + q[j]
-        d[j] = area[j] * h[j]
-    _line_solve_nb(s, n, cyclic)
+        for k in range(k0, k1):
+            A[j, k] = -CC[j, k]
+            C[j, k] = -Q[j + 1, k]
+            B[j, k] = area[j, k] + CC[j + 1, k] + Q[j, k]
+            D[j, k] = area[j, k] * h[j, k]
+            X[j, k] = area[j, k] * G[j, k]
+    _lines_prepare_nb(A, B, C, CP, W, Z, n, k0, k1, cyclic)
+    _lines_solve_nb(A, B, CP, W, Z, D, D, n, k0, k1, cyclic)
+    _lines_solve_nb(A, B, CP, W, Z, X, X, n, k0, k1, cyclic)
     for j in range(n):
-        h[j] = x[j]
-        d[j] = area[j] * G[j]
-    _line_solve_nb(s, n, cyclic)
-    for j in range(n):
-        G[j] = x[j]
+        for k in range(k0, k1):
+            h[j, k] = D[j, k]
+            G[j, k] = X[j, k]
 
 
 @njit(**_JIT_PARALLEL)
-def plug_theta_sweep_nb(h, G, v, dt, area, face_len, dist, gforce, rho, drag, two_rt, scratch):
-    """The θ half-step of plug flow: :func:`_plug_line_nb` on every column (in place).
-
-    *v*: θ-face velocity (n_theta + 1, n_phi); *area* (n_theta,); *face_len*, *dist*, *gforce*
-    (n_theta + 1,) per θ face; *scratch*: (n_phi, N_SCRATCH, n_theta + 1).
-    """
-    nt, nph = h.shape
-    for k in prange(nph):
-        s = scratch[k]
-        hc = np.empty(nt)
-        gc = np.empty(nt)
-        vc = np.empty(nt + 1)
-        for j in range(nt):
-            hc[j] = h[j, k]
-            gc[j] = G[j, k]
-        for i in range(nt + 1):
-            vc[i] = v[i, k]
-        _plug_line_nb(hc, gc, vc, nt, area, face_len, dist, gforce, dt, rho, drag, two_rt, s, False)
-        for j in range(nt):
-            h[j, k] = hc[j]
-            G[j, k] = gc[j]
-        for i in range(nt + 1):
-            v[i, k] = vc[i]
-
-
-@njit(**_JIT_PARALLEL)
-def plug_phi_sweep_nb(h, G, w, dt, area_rows, face_len, dist_rows, zero, rho, drag, two_rt, scratch):
-    """The φ half-step of plug flow: :func:`_plug_line_nb` on every row, periodic (in place).
-
-    *w*: φ-face velocity (n_theta, n_phi); *area_rows* (n_theta, n_phi) the cell areas;
-    *face_len* and *zero* (n_phi + 1,): the φ-face length R Δθ and no tangential gravity;
-    *dist_rows* (n_theta, n_phi + 1): the centre spacing R sin θ_j Δφ; *scratch*:
-    (n_theta, N_SCRATCH, n_phi + 1).
-    """
-    nt, nph = h.shape
-    for j in prange(nt):
-        s = scratch[j]
-        wr = np.empty(nph + 1)
-        for k in range(nph):
-            wr[k] = w[j, k]
-        wr[nph] = w[j, 0]
-        _plug_line_nb(h[j], G[j], wr, nph, area_rows[j], face_len, dist_rows[j], zero, dt, rho, drag, two_rt,
-                      s, True)
-        for k in range(nph):
-            w[j, k] = wr[k]
+def plug_sweep_nb(h, G, v, dt, area, face_len, dist, gforce, rho, drag, two_rt, scratch, cyclic, chunks):
+    """One plug-flow half-step along axis 0 of *h*, *G* (n, m), for all m lines at once
+    (:func:`_plug_lines_nb`), the lines split into *chunks* blocks run in parallel.
+    θ sweep: the arrays as stored; φ sweep: their transposes, ``cyclic=True``."""
+    n, m = h.shape
+    size = (m + chunks - 1) // chunks
+    for c in prange(chunks):
+        k0 = c * size
+        k1 = min(m, k0 + size)
+        if k0 < k1:
+            _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, drag, two_rt, scratch, cyclic)

@@ -12,6 +12,7 @@ import math
 import sys
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from . import _kernels as K
@@ -281,15 +282,23 @@ class PlugFlow(_FilmModel):
         super().__init__(params, grid)
         g, p = self.grid, self.params
         nt, nph = g.n_theta, g.n_phi
-        self._dist_theta = np.full(nt + 1, g.theta_spacing)
-        self._gforce = p.gravity * self._sin_f
-        self._area_rows = np.ascontiguousarray(np.repeat(g.area[:, None], nph, axis=1))
-        self._phi_len = np.full(nph + 1, g.phi_face_length)
-        self._dist_phi = np.ascontiguousarray(np.repeat(g.phi_spacing[:, None], nph + 1, axis=1))
-        self._zero = np.zeros(nph + 1)
-        self._scratch_theta = np.empty((nph, K.N_SCRATCH, nt + 1))
-        self._scratch_phi = np.empty((nt, K.N_SCRATCH, nph + 1))
+        # per-face geometry of the two sweeps as (n + 1, lines) arrays; the φ sweep works on transposes
+        self._theta_geometry = (
+            np.repeat(g.area[:, None], nph, axis=1),
+            np.repeat(g.theta_face_length[:, None], nph, axis=1),
+            np.full((nt + 1, nph), g.theta_spacing),
+            np.repeat((p.gravity * self._sin_f)[:, None], nph, axis=1),
+        )
+        self._phi_geometry = (
+            np.repeat(g.area[None, :], nph, axis=0),
+            np.full((nph + 1, nt), g.phi_face_length),
+            np.repeat(g.phi_spacing[None, :], nph + 1, axis=0),
+            np.zeros((nph + 1, nt)),
+        )
+        self._scratch_theta = np.empty((K.N_SCRATCH, nt + 1, nph))
+        self._scratch_phi = np.empty((K.N_SCRATCH, nph + 1, nt))
         self._two_rt = 2.0 * GAS_CONSTANT * p.temperature
+        self._chunks = max(1, min(numba.get_num_threads(), nph // 16))
 
     def initial_state(self, seed=0):
         """h = h0 (1 + ε s1), Γ = Γ0 (h/h0)(1 + ε s2), u = 0; s1, s2 = :func:`smooth_perturbation`
@@ -323,10 +332,15 @@ class PlugFlow(_FilmModel):
         gam = np.array(state.gamma, dtype=float, order="C")
         v = np.array(state.v_theta, dtype=float, order="C")
         w = np.array(state.v_phi, dtype=float, order="C")
-        K.plug_theta_sweep_nb(h, gam, v, dt, self._area, self._theta_len, self._dist_theta, self._gforce,
-                              p.density, p.drag, self._two_rt, self._scratch_theta)
-        K.plug_phi_sweep_nb(h, gam, w, dt, self._area_rows, self._phi_len, self._dist_phi, self._zero,
-                            p.density, p.drag, self._two_rt, self._scratch_phi)
+        K.plug_sweep_nb(h, gam, v, dt, *self._theta_geometry, p.density, p.drag, self._two_rt,
+                        self._scratch_theta, False, self._chunks)
+        ht, gt = np.ascontiguousarray(h.T), np.ascontiguousarray(gam.T)
+        wt = np.empty((self.grid.n_phi + 1, self.grid.n_theta))
+        wt[:-1] = w.T
+        wt[-1] = wt[0]
+        K.plug_sweep_nb(ht, gt, wt, dt, *self._phi_geometry, p.density, p.drag, self._two_rt,
+                        self._scratch_phi, True, self._chunks)
+        h, gam, w = np.ascontiguousarray(ht.T), np.ascontiguousarray(gt.T), np.ascontiguousarray(wt[:-1].T)
         evaporated = K.evaporate_nb(h, p.evaporation * dt, self._area)
         return FilmState(time=state.time + dt, h=h, gamma=gam, v_theta=v, v_phi=w,
                          evaporated=state.evaporated + evaporated, substeps=1)
