@@ -331,16 +331,15 @@ class PlugFlow(_FilmModel):
         h = np.array(state.h, dtype=float, order="C")
         gam = np.array(state.gamma, dtype=float, order="C")
         v = np.array(state.v_theta, dtype=float, order="C")
-        w = np.array(state.v_phi, dtype=float, order="C")
         K.plug_sweep_nb(h, gam, v, dt, *self._theta_geometry, p.density, p.drag, self._two_rt,
                         self._scratch_theta, False, self._chunks)
-        ht, gt = np.ascontiguousarray(h.T), np.ascontiguousarray(gam.T)
-        wt = np.empty((self.grid.n_phi + 1, self.grid.n_theta))
-        wt[:-1] = w.T
-        wt[-1] = wt[0]
-        K.plug_sweep_nb(ht, gt, wt, dt, *self._phi_geometry, p.density, p.drag, self._two_rt,
+        wf = np.empty((self.grid.n_theta, self.grid.n_phi + 1))  # φ faces with face 0 repeated at the end
+        wf[:, :-1] = state.v_phi
+        wf[:, -1] = wf[:, 0]
+        # the φ sweep runs along the rows: it gets the transposed views (lines innermost, strided)
+        K.plug_sweep_nb(h.T, gam.T, wf.T, dt, *self._phi_geometry, p.density, p.drag, self._two_rt,
                         self._scratch_phi, True, self._chunks)
-        h, gam, w = np.ascontiguousarray(ht.T), np.ascontiguousarray(gt.T), np.ascontiguousarray(wt[:-1].T)
+        w = np.ascontiguousarray(wf[:, :-1])
         evaporated = K.evaporate_nb(h, p.evaporation * dt, self._area)
         return FilmState(time=state.time + dt, h=h, gamma=gam, v_theta=v, v_phi=w,
                          evaporated=state.evaporated + evaporated, substeps=1)
