@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from bubbleoptics.filmflow import FilmGrid, FilmParameters, FilmState, PlugFlow, RigidDrainage, ThicknessSeries
-from bubbleoptics.filmflow import _kernels as K
 from bubbleoptics.filmflow.parameters import GAS_CONSTANT
 
 import filmflow_reference as ref  # tests/filmflow_reference.py
@@ -225,22 +224,6 @@ def test_plug_step_matches_the_scipy_sparse_step():
     assert np.abs(s.v_theta - r.v_theta).max() < 1e-10 * max(1e-3, np.abs(r.v_theta).max())
     assert np.abs(s.v_phi - r.v_phi).max() < 1e-10 * max(1e-3, np.abs(r.v_phi).max())
     assert np.abs(r.v_phi).max() > 0  # the comparison saw a flow in both directions
-
-
-@pytest.mark.reference
-def test_cyclic_tridiagonal_solve_matches_a_dense_solve():
-    rng = np.random.default_rng(0)
-    n = 9
-    a, c = -rng.random(n), -rng.random(n)
-    b = 2.5 + rng.random(n)
-    d = rng.standard_normal(n)
-    A = np.diag(b) + np.diag(a[1:], -1) + np.diag(c[:-1], 1)
-    A[0, -1], A[-1, 0] = a[0], c[-1]
-    x = np.empty(n)
-    b0 = b.copy()
-    K.cyclic_tridiagonal_solve_nb(a, b, c, d, x, np.empty(n), np.empty(n), np.empty(n), n)
-    assert np.allclose(x, np.linalg.solve(A, d), rtol=0, atol=1e-13)
-    assert np.array_equal(b, b0)
 
 
 # ---------------------------------------------------------------- seeds, series, API

@@ -12,8 +12,6 @@ import numpy as np
 from numba import njit, prange
 
 __all__ = [
-    "tridiagonal_solve_nb",
-    "cyclic_tridiagonal_solve_nb",
     "rigid_rate_nb",
     "rigid_step_nb",
     "evaporate_line_nb",
@@ -23,51 +21,10 @@ __all__ = [
 
 _JIT = dict(cache=True, error_model="numpy")
 _JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
+_JIT_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 
-# scratch rows of the line sweeps (one (N_SCRATCH, n + 1) block per line)
-_A, _B, _C, _D, _X, _CP, _DP, _VSTAR, _BETA, _CC, _Q, _Z = range(12)
-N_SCRATCH = 12
-
-
-@njit(**_JIT)
-def tridiagonal_solve_nb(a, b, c, d, x, cp, dp, n):
-    """Solve :math:`a_i x_{i-1} + b_i x_i + c_i x_{i+1} = d_i`, i < n (a_0, c_{n-1} unused), by the
-    Thomas algorithm (no pivoting: the film matrices are diagonally dominant M-matrices)."""
-    cp[0] = c[0] / b[0]
-    dp[0] = d[0] / b[0]
-    for i in range(1, n):
-        m = b[i] - a[i] * cp[i - 1]
-        cp[i] = c[i] / m
-        dp[i] = (d[i] - a[i] * dp[i - 1]) / m
-    x[n - 1] = dp[n - 1]
-    for i in range(n - 2, -1, -1):
-        x[i] = dp[i] - cp[i] * x[i + 1]
-
-
-@njit(**_JIT)
-def cyclic_tridiagonal_solve_nb(a, b, c, d, x, cp, dp, z, n):
-    """Solve the periodic tridiagonal system (row 0 couples to x_{n-1} by a_0, row n-1 to x_0
-    by c_{n-1}), n >= 3, by the Sherman-Morrison correction of two Thomas solves (A = B + u vᵀ,
-    u = (γ, 0, ..., c_{n-1}), v = (1, 0, ..., a_0/γ), γ = -b_0).  *b* is restored; *z* is
-    scratch of length n."""
-    gamma = -b[0]
-    alpha = a[0]
-    beta = c[n - 1]
-    b0 = b[0]
-    bn = b[n - 1]
-    b[0] = b0 - gamma
-    b[n - 1] = bn - alpha * beta / gamma
-    tridiagonal_solve_nb(a, b, c, d, x, cp, dp, n)
-    for i in range(n):  # z solves B z = u, u = (gamma, 0, ..., 0, beta)
-        z[i] = 0.0
-    z[0] = gamma
-    z[n - 1] = beta
-    tridiagonal_solve_nb(a, b, c, z, z, cp, dp, n)
-    b[0] = b0
-    b[n - 1] = bn
-    f = (x[0] + alpha * x[n - 1] / gamma) / (1.0 + z[0] + alpha * z[n - 1] / gamma)
-    for i in range(n):
-        x[i] -= f * z[i]
+#: scratch arrays of a plug-flow sweep (each (n + 1, lines))
+N_SCRATCH = 10
 
 
 @njit(**_JIT)
@@ -177,68 +134,77 @@ def rigid_step_nb(h, dt, area, face_len, sin_f, k_lub, evaporation, cfl, max_sub
         evaporated[k] = ev
 
 
-@njit(**_JIT)
-def _factor_lines_nb(A, B, C, CP, W, n, k0, k1):
-    """LU (Thomas) factors of the tridiagonal systems of lines k0..k1-1 (line k is column k of
-    the (n, m) arrays A, B, C: sub-, main, super-diagonal): CP the modified super-diagonal, W the
-    reciprocal pivots.  Innermost loops run over the lines, contiguous, so they vectorise."""
-    for k in range(k0, k1):
-        W[0, k] = 1.0 / B[0, k]
-        CP[0, k] = C[0, k] * W[0, k]
-    for i in range(1, n):
-        for k in range(k0, k1):
-            w = 1.0 / (B[i, k] - A[i, k] * CP[i - 1, k])
-            W[i, k] = w
-            CP[i, k] = C[i, k] * w
-
-
-@njit(**_JIT)
-def _substitute_lines_nb(A, CP, W, D, X, n, k0, k1):
-    """Solve with the factors of :func:`_factor_lines_nb` for right-hand sides D (n, m) into X
-    (X may be D)."""
-    for k in range(k0, k1):
-        X[0, k] = D[0, k] * W[0, k]
-    for i in range(1, n):
-        for k in range(k0, k1):
-            X[i, k] = (D[i, k] - A[i, k] * X[i - 1, k]) * W[i, k]
-    for i in range(n - 2, -1, -1):
-        for k in range(k0, k1):
-            X[i, k] -= CP[i, k] * X[i + 1, k]
-
-
-@njit(**_JIT)
-def _lines_prepare_nb(A, B, C, CP, W, Z, n, k0, k1, cyclic):
-    """Factor the line systems.  Periodic lines (row 0 coupled to row n-1 by A[0], row n-1 to
-    row 0 by C[n-1]) are solved by Sherman-Morrison: the matrix is B' + u vᵀ with
-    u = (γ, 0, ..., C[n-1]), v = (1, 0, ..., A[0]/γ), γ = -B[0]; B is overwritten by the
-    tridiagonal B' (so B'[0] = 2 B[0], from which the solve gets γ back), and B' z = u is
-    solved into Z."""
+@njit(**_JIT_INLINE)
+def _eliminate_nb(j, k, n, a, b, c, d1, d2, CP, DP, DP2, DZ, EDGE, cyclic):
+    """Forward elimination (Thomas) of row j of line k: a x_{j-1} + b x_j + c x_{j+1} = d1 (and
+    = d2, a second right-hand side).  Periodic lines (row 0 coupled to x_{n-1} by its a, row
+    n-1 to x_0 by its c) use Sherman-Morrison: the matrix is B' + u vᵀ with γ = -b_0,
+    u = (γ, 0, ..., c_{n-1}), v = (1, 0, ..., a_0/γ), B' tridiagonal with b'_0 = b_0 - γ,
+    b'_{n-1} = b_{n-1} - a_0 c_{n-1}/γ; B' z = u is eliminated alongside (DZ); γ and a_0 are
+    kept in EDGE[0, k], EDGE[1, k]."""
     if cyclic:
+        if j == 0:
+            EDGE[0, k] = -b
+            EDGE[1, k] = a
+            b = b + b
+        elif j == n - 1:
+            b -= EDGE[1, k] * c / EDGE[0, k]
+    if j == 0:
+        w = 1.0 / b
+        DP[0, k] = d1 * w
+        DP2[0, k] = d2 * w
+        if cyclic:
+            DZ[0, k] = EDGE[0, k] * w
+    else:
+        w = 1.0 / (b - a * CP[j - 1, k])
+        DP[j, k] = (d1 - a * DP[j - 1, k]) * w
+        DP2[j, k] = (d2 - a * DP2[j - 1, k]) * w
+        if cyclic:
+            u = c if j == n - 1 else 0.0
+            DZ[j, k] = (u - a * DZ[j - 1, k]) * w
+    CP[j, k] = c * w
+
+
+@njit(**_JIT_INLINE)
+def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic):
+    """Back substitution after :func:`_eliminate_nb` on every row: solutions into X and X2
+    (which may be DP and DP2), with the Sherman-Morrison correction for periodic lines."""
+    for k in range(k0, k1):
+        X[n - 1, k] = DP[n - 1, k]
+        X2[n - 1, k] = DP2[n - 1, k]
+    for j in range(n - 2, -1, -1):
         for k in range(k0, k1):
-            g = -B[0, k]
-            B[0, k] -= g
-            B[n - 1, k] -= A[0, k] * C[n - 1, k] / g
-    _factor_lines_nb(A, B, C, CP, W, n, k0, k1)
+            X[j, k] = DP[j, k] - CP[j, k] * X[j + 1, k]
+            X2[j, k] = DP2[j, k] - CP[j, k] * X2[j + 1, k]
     if cyclic:
-        for i in range(1, n - 1):
+        for j in range(n - 2, -1, -1):
             for k in range(k0, k1):
-                Z[i, k] = 0.0
+                DZ[j, k] -= CP[j, k] * DZ[j + 1, k]
         for k in range(k0, k1):
-            Z[0, k] = -0.5 * B[0, k]
-            Z[n - 1, k] = C[n - 1, k]
-        _substitute_lines_nb(A, CP, W, Z, Z, n, k0, k1)
+            r = EDGE[1, k] / EDGE[0, k]
+            den = 1.0 + DZ[0, k] + r * DZ[n - 1, k]
+            EDGE[0, k] = (X[0, k] + r * X[n - 1, k]) / den  # EDGE is free now: the two factors
+            EDGE[1, k] = (X2[0, k] + r * X2[n - 1, k]) / den
+        for j in range(n):
+            for k in range(k0, k1):
+                X[j, k] -= EDGE[0, k] * DZ[j, k]
+                X2[j, k] -= EDGE[1, k] * DZ[j, k]
 
 
-@njit(**_JIT)
-def _lines_solve_nb(A, B, CP, W, Z, D, X, n, k0, k1, cyclic):
-    """Solve the line systems prepared by :func:`_lines_prepare_nb` for D into X (X may be D)."""
-    _substitute_lines_nb(A, CP, W, D, X, n, k0, k1)
-    if cyclic:
-        for k in range(k0, k1):
-            r = A[0, k] / (-0.5 * B[0, k])
-            f = (X[0, k] + r * X[n - 1, k]) / (1.0 + Z[0, k] + r * Z[n - 1, k])
-            for i in range(n):
-                X[i, k] -= f * Z[i, k]
+@njit(**_JIT_INLINE)
+def _marangoni_face_nb(i, lo, k, h, G, v, face_len, dist, gforce, dt, rho, drag, two_rt, VS, BE, CC, Q):
+    """Face i (between cells lo and i) of step 1 of :func:`_plug_lines_nb`: v' = VS - BE ΔΓ';
+    CC and Q the face's terms in the surfactant system."""
+    hf = 0.5 * (h[lo, k] + h[i, k])
+    gf = 0.5 * (G[lo, k] + G[i, k])
+    inv = 1.0 / (rho * hf + drag * dt)
+    vs = rho * hf * (v[i, k] + dt * gforce[i, k]) * inv
+    be = dt * two_rt * inv / dist[i, k]
+    t = dt * face_len[i, k] * gf
+    VS[i, k] = vs
+    BE[i, k] = be
+    CC[i, k] = t * be
+    Q[i, k] = t * vs
 
 
 @njit(**_JIT)
@@ -248,7 +214,8 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
     Line k is column k of *h*, *G* (n cells) and of *v* (n + 1 face velocities, face i between
     cells i - 1 and i; for periodic lines face n is face 0 and both rows hold its value);
     *area* (n, m), and per face *face_len*, *dist* (centre spacing), *gforce* (tangential
-    gravity, m s⁻²), all (n + 1, m); a face of length 0 is closed.  *s*: scratch (N_SCRATCH, n + 1, m).
+    gravity, m s⁻²), all (n + 1, m); non-periodic lines are closed at both ends (faces 0 and n
+    carry nothing).  *s*: scratch (N_SCRATCH, n + 1, m).  Innermost loops run over the lines.
 
     1. Momentum with the Marangoni force and the drag implicit, gravity explicit:
        :math:`\\rho h_f(v' - v) = \\Delta t[\\rho h_f g_t - 2R_gT(\\Gamma'_i - \\Gamma'_{i-1})/d - C_a v']`,
@@ -258,67 +225,49 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
        system [Huang2020] solve in 2-D); it fixes v'.
     2. Transport of h and Γ by v', implicit first-order upwind: an M-matrix, so h, Γ stay >= 0
        for any dt, and exactly conservative.  Γ' of step 1 is only used to find v'.
+    Each is one forward sweep (building and eliminating the rows) and one backward sweep.
     """
-    A, B, C, D, X, CP, W = s[_A], s[_B], s[_C], s[_D], s[_X], s[_CP], s[_DP]
-    VS, BE, CC, Q, Z = s[_VSTAR], s[_BETA], s[_CC], s[_Q], s[_Z]
-    first = 0 if cyclic else 1
-    for i in range(first, n):
-        lo = i - 1 if i > 0 else n - 1
-        for k in range(k0, k1):
-            hf = 0.5 * (h[lo, k] + h[i, k])
-            gf = 0.5 * (G[lo, k] + G[i, k])
-            inv = 1.0 / (rho * hf + drag * dt)
-            vs = rho * hf * (v[i, k] + dt * gforce[i, k]) * inv
-            be = dt * two_rt * inv / dist[i, k]
-            t = dt * face_len[i, k] * gf
-            VS[i, k] = vs
-            BE[i, k] = be
-            CC[i, k] = t * be
-            Q[i, k] = t * vs
+    VS, BE, CC, Q, CP, DP, DP2, DZ, X, EDGE = s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9]
+    # step 1: faces, rows and elimination in one sweep down the lines
     for k in range(k0, k1):
         if cyclic:
+            _marangoni_face_nb(0, n - 1, k, h, G, v, face_len, dist, gforce, dt, rho, drag, two_rt, VS, BE, CC, Q)
             VS[n, k], BE[n, k], CC[n, k], Q[n, k] = VS[0, k], BE[0, k], CC[0, k], Q[0, k]
         else:
             VS[0, k] = BE[0, k] = CC[0, k] = Q[0, k] = 0.0
             VS[n, k] = BE[n, k] = CC[n, k] = Q[n, k] = 0.0
     for j in range(n):
+        if j + 1 < n:
+            for k in range(k0, k1):
+                _marangoni_face_nb(j + 1, j, k, h, G, v, face_len, dist, gforce, dt, rho, drag, two_rt,
+                                   VS, BE, CC, Q)
         for k in range(k0, k1):
-            A[j, k] = -CC[j, k]
-            C[j, k] = -CC[j + 1, k]
-            B[j, k] = area[j, k] + CC[j, k] + CC[j + 1, k]
-            D[j, k] = area[j, k] * G[j, k] - (Q[j + 1, k] - Q[j, k])
-    _lines_prepare_nb(A, B, C, CP, W, Z, n, k0, k1, cyclic)
-    _lines_solve_nb(A, B, CP, W, Z, D, X, n, k0, k1, cyclic)
+            b = area[j, k] + CC[j, k] + CC[j + 1, k]
+            d = area[j, k] * G[j, k] - (Q[j + 1, k] - Q[j, k])
+            _eliminate_nb(j, k, n, -CC[j, k], b, -CC[j + 1, k], d, 0.0, CP, DP, DP2, DZ, EDGE, cyclic)
+    _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, DP2, cyclic)
+    # the new face velocities, and the upwind weights CC = max(f, 0), Q = max(-f, 0), f = dt l v'
+    first = 0 if cyclic else 1
     for i in range(first, n):
         lo = i - 1 if i > 0 else n - 1
         for k in range(k0, k1):
-            v[i, k] = VS[i, k] - BE[i, k] * (X[i, k] - X[lo, k])
-    for k in range(k0, k1):
-        if cyclic:
-            v[n, k] = v[0, k]
-        else:
-            v[0, k] = 0.0
-            v[n, k] = 0.0
-    # implicit upwind transport; CC <- weight p = max(f, 0), Q <- m = max(-f, 0), f = dt l v'
-    for i in range(n + 1):
-        for k in range(k0, k1):
-            f = dt * face_len[i, k] * v[i, k]
+            vi = VS[i, k] - BE[i, k] * (X[i, k] - X[lo, k])
+            v[i, k] = vi
+            f = dt * face_len[i, k] * vi
             CC[i, k] = max(f, 0.0)
             Q[i, k] = max(-f, 0.0)
+    for k in range(k0, k1):
+        if cyclic:
+            v[n, k], CC[n, k], Q[n, k] = v[0, k], CC[0, k], Q[0, k]
+        else:
+            v[0, k] = v[n, k] = CC[0, k] = Q[0, k] = CC[n, k] = Q[n, k] = 0.0
+    # step 2: transport of h and Γ with the same matrix
     for j in range(n):
         for k in range(k0, k1):
-            A[j, k] = -CC[j, k]
-            C[j, k] = -Q[j + 1, k]
-            B[j, k] = area[j, k] + CC[j + 1, k] + Q[j, k]
-            D[j, k] = area[j, k] * h[j, k]
-            X[j, k] = area[j, k] * G[j, k]
-    _lines_prepare_nb(A, B, C, CP, W, Z, n, k0, k1, cyclic)
-    _lines_solve_nb(A, B, CP, W, Z, D, D, n, k0, k1, cyclic)
-    _lines_solve_nb(A, B, CP, W, Z, X, X, n, k0, k1, cyclic)
-    for j in range(n):
-        for k in range(k0, k1):
-            h[j, k] = D[j, k]
-            G[j, k] = X[j, k]
+            b = area[j, k] + CC[j + 1, k] + Q[j, k]
+            _eliminate_nb(j, k, n, -CC[j, k], b, -Q[j + 1, k], area[j, k] * h[j, k], area[j, k] * G[j, k],
+                          CP, DP, DP2, DZ, EDGE, cyclic)
+    _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, h, G, cyclic)
 
 
 @njit(**_JIT_PARALLEL)
