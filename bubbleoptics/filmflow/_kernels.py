@@ -24,7 +24,7 @@ _JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
 _JIT_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 
 #: scratch arrays of a plug-flow sweep (each (n + 1, lines))
-N_SCRATCH = 10
+N_SCRATCH = 11
 
 
 @njit(**_JIT)
@@ -166,16 +166,21 @@ def _eliminate_nb(j, k, n, a, b, c, d1, d2, CP, DP, DP2, DZ, EDGE, cyclic):
 
 
 @njit(**_JIT_INLINE)
-def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic):
-    """Back substitution after :func:`_eliminate_nb` on every row: solutions into X and X2
-    (which may be DP and DP2), with the Sherman-Morrison correction for periodic lines."""
+def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic, two):
+    """Back substitution after :func:`_eliminate_nb` on every row: the solution into X (and,
+    if *two*, the second one into X2; either may be its DP), with the Sherman-Morrison
+    correction for periodic lines."""
     for k in range(k0, k1):
         X[n - 1, k] = DP[n - 1, k]
-        X2[n - 1, k] = DP2[n - 1, k]
     for j in range(n - 2, -1, -1):
         for k in range(k0, k1):
             X[j, k] = DP[j, k] - CP[j, k] * X[j + 1, k]
-            X2[j, k] = DP2[j, k] - CP[j, k] * X2[j + 1, k]
+    if two:
+        for k in range(k0, k1):
+            X2[n - 1, k] = DP2[n - 1, k]
+        for j in range(n - 2, -1, -1):
+            for k in range(k0, k1):
+                X2[j, k] = DP2[j, k] - CP[j, k] * X2[j + 1, k]
     if cyclic:
         for j in range(n - 2, -1, -1):
             for k in range(k0, k1):
@@ -184,11 +189,14 @@ def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic):
             r = EDGE[1, k] / EDGE[0, k]
             den = 1.0 + DZ[0, k] + r * DZ[n - 1, k]
             EDGE[0, k] = (X[0, k] + r * X[n - 1, k]) / den  # EDGE is free now: the two factors
-            EDGE[1, k] = (X2[0, k] + r * X2[n - 1, k]) / den
+            EDGE[1, k] = (X2[0, k] + r * X2[n - 1, k]) / den if two else 0.0
         for j in range(n):
             for k in range(k0, k1):
                 X[j, k] -= EDGE[0, k] * DZ[j, k]
-                X2[j, k] -= EDGE[1, k] * DZ[j, k]
+        if two:
+            for j in range(n):
+                for k in range(k0, k1):
+                    X2[j, k] -= EDGE[1, k] * DZ[j, k]
 
 
 @njit(**_JIT_INLINE)
@@ -227,7 +235,7 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
        for any dt, and exactly conservative.  Γ' of step 1 is only used to find v'.
     Each is one forward sweep (building and eliminating the rows) and one backward sweep.
     """
-    VS, BE, CC, Q, CP, DP, DP2, DZ, X, EDGE = s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9]
+    VS, BE, CC, Q, CP, DP, DP2, DZ, X, EDGE, W = s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9], s[10]
     # step 1: faces, rows and elimination in one sweep down the lines
     for k in range(k0, k1):
         if cyclic:
@@ -241,11 +249,21 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
             for k in range(k0, k1):
                 _marangoni_face_nb(j + 1, j, k, h, G, v, face_len, dist, gforce, dt, rho, drag, two_rt,
                                    VS, BE, CC, Q)
-        for k in range(k0, k1):
-            b = area[j, k] + CC[j, k] + CC[j + 1, k]
-            d = area[j, k] * G[j, k] - (Q[j + 1, k] - Q[j, k])
-            _eliminate_nb(j, k, n, -CC[j, k], b, -CC[j + 1, k], d, 0.0, CP, DP, DP2, DZ, EDGE, cyclic)
-    _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, DP2, cyclic)
+        if j == 0 or j == n - 1:
+            for k in range(k0, k1):
+                b = area[j, k] + CC[j, k] + CC[j + 1, k]
+                d = area[j, k] * G[j, k] - (Q[j + 1, k] - Q[j, k])
+                _eliminate_nb(j, k, n, -CC[j, k], b, -CC[j + 1, k], d, 0.0, CP, DP, DP2, DZ, EDGE, cyclic)
+        else:  # the interior rows without branches (a = -CC_j, c = -CC_{j+1}); W keeps the pivots
+            for k in range(k0, k1):
+                w = 1.0 / (area[j, k] + CC[j, k] + CC[j + 1, k] + CC[j, k] * CP[j - 1, k])
+                W[j, k] = w
+                CP[j, k] = -CC[j + 1, k] * w
+                DP[j, k] = (area[j, k] * G[j, k] - (Q[j + 1, k] - Q[j, k]) + CC[j, k] * DP[j - 1, k]) * w
+            if cyclic:
+                for k in range(k0, k1):
+                    DZ[j, k] = CC[j, k] * DZ[j - 1, k] * W[j, k]
+    _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, DP2, cyclic, False)
     # the new face velocities, and the upwind weights CC = max(f, 0), Q = max(-f, 0), f = dt l v'
     first = 0 if cyclic else 1
     for i in range(first, n):
@@ -261,13 +279,24 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
             v[n, k], CC[n, k], Q[n, k] = v[0, k], CC[0, k], Q[0, k]
         else:
             v[0, k] = v[n, k] = CC[0, k] = Q[0, k] = CC[n, k] = Q[n, k] = 0.0
-    # step 2: transport of h and Γ with the same matrix
+    # step 2: transport of h and Γ with the same matrix (a = -CC_j, c = -Q_{j+1})
     for j in range(n):
-        for k in range(k0, k1):
-            b = area[j, k] + CC[j + 1, k] + Q[j, k]
-            _eliminate_nb(j, k, n, -CC[j, k], b, -Q[j + 1, k], area[j, k] * h[j, k], area[j, k] * G[j, k],
-                          CP, DP, DP2, DZ, EDGE, cyclic)
-    _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, h, G, cyclic)
+        if j == 0 or j == n - 1:
+            for k in range(k0, k1):
+                b = area[j, k] + CC[j + 1, k] + Q[j, k]
+                _eliminate_nb(j, k, n, -CC[j, k], b, -Q[j + 1, k], area[j, k] * h[j, k], area[j, k] * G[j, k],
+                              CP, DP, DP2, DZ, EDGE, cyclic)
+        else:
+            for k in range(k0, k1):
+                w = 1.0 / (area[j, k] + CC[j + 1, k] + Q[j, k] + CC[j, k] * CP[j - 1, k])
+                W[j, k] = w
+                CP[j, k] = -Q[j + 1, k] * w
+                DP[j, k] = (area[j, k] * h[j, k] + CC[j, k] * DP[j - 1, k]) * w
+                DP2[j, k] = (area[j, k] * G[j, k] + CC[j, k] * DP2[j - 1, k]) * w
+            if cyclic:
+                for k in range(k0, k1):
+                    DZ[j, k] = CC[j, k] * DZ[j - 1, k] * W[j, k]
+    _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, h, G, cyclic, True)
 
 
 @njit(**_JIT_PARALLEL)
