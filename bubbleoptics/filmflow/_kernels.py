@@ -166,37 +166,40 @@ def _eliminate_nb(j, k, n, a, b, c, d1, d2, CP, DP, DP2, DZ, EDGE, cyclic):
 
 
 @njit(**_JIT_INLINE)
-def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic, two):
-    """Back substitution after :func:`_eliminate_nb` on every row: the solution into X (and,
-    if *two*, the second one into X2; either may be its DP), with the Sherman-Morrison
-    correction for periodic lines."""
+def _back_nb(n, k0, k1, CP, DP, X):
+    """X[j] = DP[j] - CP[j] X[j+1] from the last row up (X may be DP)."""
     for k in range(k0, k1):
         X[n - 1, k] = DP[n - 1, k]
     for j in range(n - 2, -1, -1):
         for k in range(k0, k1):
             X[j, k] = DP[j, k] - CP[j, k] * X[j + 1, k]
+
+
+@njit(**_JIT_INLINE)
+def _correct_nb(n, k0, k1, X, DZ, EDGE):
+    """Sherman-Morrison: X -= f z, f = (X_0 + r X_{n-1}) / (1 + z_0 + r z_{n-1}), r = a_0/γ
+    (EDGE[1] / EDGE[0]); f is kept in EDGE[2]."""
+    for k in range(k0, k1):
+        r = EDGE[1, k] / EDGE[0, k]
+        EDGE[2, k] = (X[0, k] + r * X[n - 1, k]) / (1.0 + DZ[0, k] + r * DZ[n - 1, k])
+    for j in range(n):
+        for k in range(k0, k1):
+            X[j, k] -= EDGE[2, k] * DZ[j, k]
+
+
+@njit(**_JIT_INLINE)
+def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic, two):
+    """Back substitution after :func:`_eliminate_nb` on every row: the solution into X (and,
+    if *two*, the second one into X2; either may be its DP), with the Sherman-Morrison
+    correction for periodic lines (EDGE's rows 0, 1 hold γ and a_0 until then)."""
+    _back_nb(n, k0, k1, CP, DP, X)
     if two:
-        for k in range(k0, k1):
-            X2[n - 1, k] = DP2[n - 1, k]
-        for j in range(n - 2, -1, -1):
-            for k in range(k0, k1):
-                X2[j, k] = DP2[j, k] - CP[j, k] * X2[j + 1, k]
+        _back_nb(n, k0, k1, CP, DP2, X2)
     if cyclic:
-        for j in range(n - 2, -1, -1):
-            for k in range(k0, k1):
-                DZ[j, k] -= CP[j, k] * DZ[j + 1, k]
-        for k in range(k0, k1):
-            r = EDGE[1, k] / EDGE[0, k]
-            den = 1.0 + DZ[0, k] + r * DZ[n - 1, k]
-            EDGE[0, k] = (X[0, k] + r * X[n - 1, k]) / den  # EDGE is free now: the two factors
-            EDGE[1, k] = (X2[0, k] + r * X2[n - 1, k]) / den if two else 0.0
-        for j in range(n):
-            for k in range(k0, k1):
-                X[j, k] -= EDGE[0, k] * DZ[j, k]
+        _back_nb(n, k0, k1, CP, DZ, DZ)
+        _correct_nb(n, k0, k1, X, DZ, EDGE)
         if two:
-            for j in range(n):
-                for k in range(k0, k1):
-                    X2[j, k] -= EDGE[1, k] * DZ[j, k]
+            _correct_nb(n, k0, k1, X2, DZ, EDGE)
 
 
 @njit(**_JIT_INLINE)
