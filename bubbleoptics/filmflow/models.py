@@ -263,7 +263,8 @@ class PlugFlow(_FilmModel):
     fast Marangoni (Gibbs) waves, which is what makes 5 ms steps possible near the poles), then
     implicit first-order upwind transport of h and Γ (positive for any dt, exactly
     conservative).  First order in time and in space for transport; the equilibrium balance is
-    second order (measured: see ``docs/film-flow.md``).
+    second order (measured: see ``docs/film-flow.md``).  A PlugFlow object owns the scratch
+    arrays of its sweeps: step one model from one thread at a time (make one model a thread).
 
     >>> from bubbleoptics.filmflow import FilmParameters, FilmGrid, PlugFlow
     >>> p = FilmParameters(evaporation=0.0)
