@@ -76,7 +76,10 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="the two small grids, 2 repeats, no movie (smoke test)")
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--threads", type=int, default=None, help="numba threads (default: all cores)")
     args = parser.parse_args(argv)
+    if args.threads is not None:
+        numba.set_num_threads(args.threads)
     repeats = 2 if args.quick else args.repeats
     grids = GRIDS[:2] if args.quick else GRIDS
     params = FilmParameters()
@@ -106,7 +109,8 @@ def main(argv=None):
     comment = [
         provenance("benchmarks/film_flow.py", f"numba {numba.__version__}, {numba.get_num_threads()} threads, "
                    f"threading layer {numba.config.THREADING_LAYER}", f"load average {load:.2f} at the end",
-                   "regenerate with: python benchmarks/film_flow.py" + (" --quick" if args.quick else "")),
+                   "regenerate with: python benchmarks/film_flow.py" + (" --quick" if args.quick else "")
+                   + (f" --threads {args.threads}" if args.threads is not None else "")),
         f"default FilmParameters, dt = {DT} s; movie: {MOVIE['seconds']:g} s of film time at {MOVIE['fps']} fps "
         "(plug flow, 2100 steps of 1/210 s); movie_render_seconds: left for the tracer (not measured here)",
         f"target: {TARGET['grid']} plug flow at >= {TARGET['steps_per_second']} steps/s",
