@@ -83,6 +83,7 @@ def main(argv=None):
     repeats = 2 if args.quick else args.repeats
     grids = GRIDS[:2] if args.quick else GRIDS
     params = FilmParameters()
+    load_start = os.getloadavg()[0]
     rows = []
     for nt, nph in grids:
         for cls in (PlugFlow, RigidDrainage):
@@ -108,7 +109,7 @@ def main(argv=None):
     load = os.getloadavg()[0]
     comment = [
         provenance("benchmarks/film_flow.py", f"numba {numba.__version__}, {numba.get_num_threads()} threads, "
-                   f"threading layer {numba.config.THREADING_LAYER}", f"load average {load:.2f} at the end",
+                   f"threading layer {numba.config.THREADING_LAYER}", f"load average {load_start:.2f} at the start, {load:.2f} at the end (other processes share the cores)",
                    "regenerate with: python benchmarks/film_flow.py" + (" --quick" if args.quick else "")
                    + (f" --threads {args.threads}" if args.threads is not None else "")),
         f"default FilmParameters, dt = {DT} s; movie: {MOVIE['seconds']:g} s of film time at {MOVIE['fps']} fps "
