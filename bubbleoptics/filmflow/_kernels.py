@@ -3,9 +3,11 @@
 
 Layout: cell fields are ``(n_theta, n_phi)`` C arrays; the θ-face velocity is
 ``(n_theta + 1, n_phi)`` (row i on the face between cells i - 1 and i; rows 0 and n_theta are
-the poles and stay 0); the φ-face velocity is ``(n_theta, n_phi)`` (column k on the face
-between columns k - 1 and k, periodic).  Every update is in finite-volume form, a difference
-of face fluxes, so :math:`\\sum_j A_j h_j` changes only by rounding (and by evaporation).
+the poles and stay 0).  The plug-flow sweeps work along axis 0 of (n, lines) arrays with the
+lines innermost: the θ sweep on the arrays as stored, the φ sweep on transposed views, its
+face velocity (n_phi + 1, n_theta) with face 0 (between columns n_phi - 1 and 0) repeated as
+row n_phi.  Every update is in finite-volume form, a difference of face fluxes, so
+:math:`\\sum_j A_j h_j` changes only by rounding (and by evaporation).
 """
 
 import numpy as np
