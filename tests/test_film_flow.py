@@ -267,6 +267,11 @@ def test_the_same_seed_gives_the_same_field(model):
     assert np.array_equal(one.h_nm, two.h_nm)
     assert not np.allclose(one.h_nm, other.h_nm)
     assert one.parameters["seed"] == 42 and one.model == model.name
+    # going on from the last state gives the same as one longer run
+    first = m.run(t_end=0.01, dt=0.005, seed=42)
+    rest = m.run(t_end=0.01, dt=0.005, seed=42, state=m.last_state)
+    assert rest.times.tolist() == pytest.approx([0.01, 0.015, 0.02])
+    assert np.array_equal(rest.h_nm[-1], one.h_nm[-1]) and np.array_equal(first.h_nm[-1], one.h_nm[2])
 
 
 @pytest.mark.api

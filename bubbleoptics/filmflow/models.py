@@ -109,6 +109,7 @@ class _FilmModel:
             raise ValueError(f"grid.radius must equal params.radius = {params.radius} m (got {grid.radius})")
         self.params = params
         self.grid = grid
+        self.last_state = None  # the state at the end of the last run()
         sin_f = np.sin(grid.theta_faces)
         sin_f[0] = sin_f[-1] = 0.0
         self._sin_f = sin_f
@@ -138,7 +139,8 @@ class _FilmModel:
 
         *t_end* must be a whole number of steps (to 1e-9 relative).  *progress*: ``True`` prints a
         line to stderr about every 10 %; a callable is called as ``progress(step, n_steps, state)``
-        after every saved step.  Returns a :class:`ThicknessSeries` (h in nm).
+        after every saved step.  Returns a :class:`ThicknessSeries` (h in nm); the state at the
+        end is kept as ``self.last_state`` (pass it as *state* to go on).
         """
         t_end = _check_positive("t_end", t_end, "s")
         dt = self._check_dt(dt)
@@ -165,6 +167,7 @@ class _FilmModel:
             if progress is True and (i % tick == 0 or i == n_steps):
                 print(f"{self.name}: step {i}/{n_steps}, t = {t0 + i * dt:.4g} s, "
                       f"min h = {state.h.min() * 1e9:.1f} nm", file=sys.stderr)
+        self.last_state = state
         parameters = dict(self.params.to_dict(), dt=dt, seed=int(seed), n_steps=n_steps, save_every=int(save_every),
                           grid=self.grid.to_dict())
         return ThicknessSeries(np.stack(frames), times, self.grid, parameters, self.name)
