@@ -129,6 +129,9 @@ class _FilmModel:
         if state.h.shape != (self.grid.n_theta, self.grid.n_phi):
             raise ValueError(f"state.h must have shape ({self.grid.n_theta}, {self.grid.n_phi}) (got {state.h.shape})")
 
+    def _check_dt(self, dt):
+        return _check_positive("dt", dt, "s")
+
     def _initial_h(self, seed):
         p = self.params
         return p.h0 * (1.0 + p.perturbation * smooth_perturbation(self.grid, seed))
@@ -215,9 +218,6 @@ class RigidDrainage(_FilmModel):
     def initial_state(self, seed=0):
         """h = h0 (1 + ε s), s = :func:`smooth_perturbation` (grid, seed), ε = params.perturbation."""
         return FilmState(time=0.0, h=self._initial_h(seed))
-
-    def _check_dt(self, dt):
-        return _check_positive("dt", dt, "s")
 
     def step(self, state, dt):
         """Advance *state* by *dt* s (any dt > 0; explicit substeps keep it stable)."""
@@ -314,9 +314,6 @@ class PlugFlow(_FilmModel):
         gamma = p.surfactant * (h / p.h0) * ratio
         return FilmState(time=0.0, h=h, gamma=gamma, v_theta=np.zeros((g.n_theta + 1, g.n_phi)),
                          v_phi=np.zeros((g.n_theta, g.n_phi)))
-
-    def _check_dt(self, dt):
-        return _check_positive("dt", dt, "s")
 
     def _check_state(self, state):
         super()._check_state(state)
