@@ -19,6 +19,7 @@ __all__ = [
     "evaporate_line_nb",
     "evaporate_nb",
     "plug_sweep_nb",
+    "plug_rows_sweep_nb",
 ]
 
 _JIT = dict(cache=True, error_model="numpy")
@@ -316,3 +317,40 @@ def plug_sweep_nb(h, G, v, dt, area, face_len, dist, gforce, rho, drag, two_rt, 
         k1 = min(m, k0 + size)
         if k0 < k1:
             _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, drag, two_rt, scratch, cyclic)
+
+
+@njit(**_JIT_PARALLEL)
+def plug_rows_sweep_nb(h, G, w, dt, geometry, rho, drag, two_rt, scratch, buffers, block):
+    """The φ half-step of plug flow on the rows of *h*, *G* (n_theta, n_phi), periodic, in place.
+
+    The rows are taken *block* at a time, transposed into small buffers (n_phi + 1, block) so
+    that :func:`_plug_lines_nb` runs with its lines innermost and in cache, and transposed
+    back.  *w*: φ-face velocity (n_theta, n_phi), face k between columns k - 1 and k;
+    *geometry*: (n_blocks, 4, n_phi + 1, block) area, face length, centre spacing, tangential
+    gravity (0) of each block's rows; *scratch*: (n_chunks, N_SCRATCH, n_phi + 1, block);
+    *buffers*: (n_chunks, 3, n_phi + 1, block).  The blocks are shared out over n_chunks
+    parallel chunks.
+    """
+    nt, nph = h.shape
+    nblocks = geometry.shape[0]
+    chunks = scratch.shape[0]
+    per = (nblocks + chunks - 1) // chunks
+    for c in prange(chunks):
+        s = scratch[c]
+        hb, gb, wb = buffers[c, 0], buffers[c, 1], buffers[c, 2]
+        for b in range(c * per, min(nblocks, (c + 1) * per)):
+            j0 = b * block
+            m = min(block, nt - j0)
+            for l in range(m):
+                for k in range(nph):
+                    hb[k, l] = h[j0 + l, k]
+                    gb[k, l] = G[j0 + l, k]
+                    wb[k, l] = w[j0 + l, k]
+                wb[nph, l] = w[j0 + l, 0]
+            geo = geometry[b]
+            _plug_lines_nb(hb, gb, wb, nph, 0, m, geo[0], geo[1], geo[2], geo[3], dt, rho, drag, two_rt, s, True)
+            for l in range(m):
+                for k in range(nph):
+                    h[j0 + l, k] = hb[k, l]
+                    G[j0 + l, k] = gb[k, l]
+                    w[j0 + l, k] = wb[k, l]

@@ -28,6 +28,8 @@ DEFAULT_GRID = (64, 128)
 RIGID_CFL = 0.9
 #: at most this many substeps in one rigid-drainage step (a step that needs more is refused)
 MAX_SUBSTEPS = 100_000
+#: rows of a block of the plug-flow φ sweep (transposed into buffers of (n_phi + 1) x ROW_BLOCK)
+ROW_BLOCK = 8
 
 
 @dataclass(frozen=True)
@@ -286,23 +288,27 @@ class PlugFlow(_FilmModel):
         super().__init__(params, grid)
         g, p = self.grid, self.params
         nt, nph = g.n_theta, g.n_phi
-        # per-face geometry of the two sweeps as (n + 1, lines) arrays; the φ sweep works on transposes
+        # per-face geometry of the θ sweep as (n_theta + 1, n_phi) arrays
         self._theta_geometry = (
             np.repeat(g.area[:, None], nph, axis=1),
             np.repeat(g.theta_face_length[:, None], nph, axis=1),
             np.full((nt + 1, nph), g.theta_spacing),
             np.repeat((p.gravity * self._sin_f)[:, None], nph, axis=1),
         )
-        self._phi_geometry = (
-            np.repeat(g.area[None, :], nph, axis=0),
-            np.full((nph + 1, nt), g.phi_face_length),
-            np.repeat(g.phi_spacing[None, :], nph + 1, axis=0),
-            np.zeros((nph + 1, nt)),
-        )
+        # the φ sweep takes the rows ROW_BLOCK at a time (transposed into cache-sized buffers)
+        blocks = -(-nt // ROW_BLOCK)
+        rows = np.minimum(np.arange(blocks * ROW_BLOCK), nt - 1).reshape(blocks, ROW_BLOCK)
+        self._phi_geometry = np.empty((blocks, 4, nph + 1, ROW_BLOCK))
+        self._phi_geometry[:, 0] = g.area[rows][:, None, :]
+        self._phi_geometry[:, 1] = g.phi_face_length
+        self._phi_geometry[:, 2] = g.phi_spacing[rows][:, None, :]
+        self._phi_geometry[:, 3] = 0.0
         self._scratch_theta = np.empty((K.N_SCRATCH, nt + 1, nph))
-        self._scratch_phi = np.empty((K.N_SCRATCH, nph + 1, nt))
         self._two_rt = 2.0 * GAS_CONSTANT * p.temperature
         self._chunks = max(1, min(numba.get_num_threads(), nph // 16))
+        phi_chunks = max(1, min(numba.get_num_threads(), blocks))
+        self._scratch_phi = np.empty((phi_chunks, K.N_SCRATCH, nph + 1, ROW_BLOCK))
+        self._buffers_phi = np.empty((phi_chunks, 3, nph + 1, ROW_BLOCK))
 
     def initial_state(self, seed=0):
         """h = h0 (1 + ε s1), Γ = Γ0 (h/h0)(1 + ε s2), u = 0; s1, s2 = :func:`smooth_perturbation`
@@ -334,13 +340,9 @@ class PlugFlow(_FilmModel):
         v = np.array(state.v_theta, dtype=float, order="C")
         K.plug_sweep_nb(h, gam, v, dt, *self._theta_geometry, p.density, p.drag, self._two_rt,
                         self._scratch_theta, False, self._chunks)
-        wf = np.empty((self.grid.n_theta, self.grid.n_phi + 1))  # φ faces with face 0 repeated at the end
-        wf[:, :-1] = state.v_phi
-        wf[:, -1] = wf[:, 0]
-        # the φ sweep runs along the rows: it gets the transposed views (lines innermost, strided)
-        K.plug_sweep_nb(h.T, gam.T, wf.T, dt, *self._phi_geometry, p.density, p.drag, self._two_rt,
-                        self._scratch_phi, True, self._chunks)
-        w = np.ascontiguousarray(wf[:, :-1])
+        w = np.array(state.v_phi, dtype=float, order="C")
+        K.plug_rows_sweep_nb(h, gam, w, dt, self._phi_geometry, p.density, p.drag, self._two_rt, self._scratch_phi,
+                             self._buffers_phi, ROW_BLOCK)
         evaporated = K.evaporate_nb(h, p.evaporation * dt, self._area)
         return FilmState(time=state.time + dt, h=h, gamma=gam, v_theta=v, v_phi=w,
                          evaporated=state.evaporated + evaporated, substeps=1)
