@@ -4,9 +4,9 @@
 Layout: cell fields are ``(n_theta, n_phi)`` C arrays; the θ-face velocity is
 ``(n_theta + 1, n_phi)`` (row i on the face between cells i - 1 and i; rows 0 and n_theta are
 the poles and stay 0).  The plug-flow sweeps work along axis 0 of (n, lines) arrays with the
-lines innermost: the θ sweep on the arrays as stored, the φ sweep on transposed views, its
-face velocity (n_phi + 1, n_theta) with face 0 (between columns n_phi - 1 and 0) repeated as
-row n_phi.  Every update is in finite-volume form, a difference of face fluxes, so
+lines innermost: the θ sweep (:func:`plug_sweep_nb`) on the arrays as stored, the φ sweep
+(:func:`plug_rows_sweep_nb`) on blocks of rows transposed into buffers, their face velocity
+(n_phi + 1, rows) with face 0 (between columns n_phi - 1 and 0) repeated as row n_phi.  Every update is in finite-volume form, a difference of face fluxes, so
 :math:`\\sum_j A_j h_j` changes only by rounding (and by evaporation).
 """
 
@@ -309,7 +309,8 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
 def plug_sweep_nb(h, G, v, dt, area, face_len, dist, gforce, rho, drag, two_rt, scratch, cyclic, chunks):
     """One plug-flow half-step along axis 0 of *h*, *G* (n, m), for all m lines at once
     (:func:`_plug_lines_nb`), the lines split into *chunks* blocks run in parallel.
-    θ sweep: the arrays as stored; φ sweep: their transposes, ``cyclic=True``."""
+    The θ sweep runs on the arrays as stored (``cyclic=False``); periodic lines (``cyclic=True``)
+    need their face velocity (n + 1, m) with row n a copy of row 0."""
     n, m = h.shape
     size = (m + chunks - 1) // chunks
     for c in prange(chunks):
