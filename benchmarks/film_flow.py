@@ -6,13 +6,14 @@ Writes ``data/derived/film_flow.csv``.
 For each grid (64x128, 128x256, 256x512) and model (``plug_flow``, ``rigid_drainage``), with
 the default :class:`bubbleoptics.filmflow.FilmParameters` and the step of Huang et al. (2020),
 dt = 5 ms: a model is made, one step is run untimed (numba's cache load / compilation), then
-*repeats* timed runs of *n* steps each (n so that a run takes about half a second); the
-columns give the median seconds a step and its [min, max] over the runs, the CPU seconds a
+*repeats* timed runs of *n* steps each (n so that a run takes about half a second), with 1
+numba thread and with all (``--threads``); the columns give the median seconds a step and its [min, max] over the runs, the CPU seconds a
 step (this process, :func:`time.process_time`; on this shared machine the wall time also
 carries the other processes' load), steps per second and simulated seconds per wall second
 (from the median), and the simulation cost of a 10-second movie at 30 fps played in real
-time (10 s of film time = 2000 steps of 5 ms, 300 saved frames; the saving of the frames,
-h copied to nm, is timed with it in ``movie_sim_seconds``).  ``movie_render_seconds`` is
+time (10 s of film time = 2100 steps of 1/210 s, the largest step <= 5 ms that divides a
+frame, 7 a frame, 300 saved frames; keeping the frames, h copied to nm, is timed with it in
+``movie_sim_seconds``).  ``movie_render_seconds`` is
 left empty: rendering the 300 frames with the tracer is to be measured when the tracer
 reads a simulated film (issue 11's tracer part), not here.
 
@@ -21,6 +22,7 @@ of it would be a time-lapse with steps of seconds (each step then takes its own 
 """
 
 import argparse
+import math
 import os
 import statistics
 import sys
@@ -56,15 +58,17 @@ def time_steps(model, n, repeats):
 
 
 def time_movie(model):
-    """Wall seconds of the simulation of a 10-s, 30-fps movie (one run; frames kept in nm)."""
-    steps = int(round(MOVIE["seconds"] / DT))
-    save_every = int(round(1 / (MOVIE["fps"] * DT)))
-    model.step(model.initial_state(seed=0), DT)
+    """Wall seconds of the simulation of a 10-s, 30-fps movie (one run; frames kept in nm):
+    steps of 1/210 s (4.76 ms, the largest <= 5 ms that divides a frame), 7 a frame."""
+    per_frame = math.ceil(1 / (MOVIE["fps"] * DT))
+    dt = 1 / (MOVIE["fps"] * per_frame)
+    model.step(model.initial_state(seed=0), dt)
     t0 = time.perf_counter()
-    series = model.run(t_end=MOVIE["seconds"], dt=DT, save_every=save_every, seed=0)
+    series = model.run(t_end=MOVIE["seconds"], dt=dt, save_every=per_frame, seed=0)
     wall = time.perf_counter() - t0
-    assert len(series) == steps // save_every + 1
-    return wall, len(series) - 1
+    frames = len(series) - 1
+    assert frames == MOVIE["seconds"] * MOVIE["fps"], frames
+    return wall, frames, int(round(MOVIE["seconds"] / dt))
 
 
 def main(argv=None):
@@ -72,39 +76,52 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="the two small grids, 2 repeats, no movie (smoke test)")
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--threads", default=None,
+                        help="numba thread counts to time, comma-separated (default: 1 and all cores)")
     args = parser.parse_args(argv)
+    most = numba.config.NUMBA_NUM_THREADS
+    threads = sorted({1, most}) if args.threads is None else [int(x) for x in args.threads.split(",")]
+    if not all(1 <= t <= most for t in threads):
+        parser.error(f"--threads must be between 1 and {most}")
     repeats = 2 if args.quick else args.repeats
     grids = GRIDS[:2] if args.quick else GRIDS
     params = FilmParameters()
+    load_start = os.getloadavg()[0]
     rows = []
     for nt, nph in grids:
         for cls in (PlugFlow, RigidDrainage):
-            model = cls(params, FilmGrid(nt, nph, params.radius))
-            n = max(10, int(0.5 / (2e-7 * nt * nph)))  # about 0.5 s a run at ~0.2 µs a cell
-            walls, cpus = time_steps(model, n, repeats)
-            med = statistics.median(walls)
-            row = dict(model=cls.name, grid=f"{nt}x{nph}", cells=nt * nph, dt_seconds=DT, steps_per_run=n,
-                       repeats=repeats, step_seconds_median=med, step_seconds_min=min(walls),
-                       step_seconds_max=max(walls), step_cpu_seconds_median=statistics.median(cpus),
-                       steps_per_second=1 / med, simulated_seconds_per_wall_second=DT / med)
-            if not args.quick and cls is PlugFlow:
-                wall, frames = time_movie(model)
-                row.update(movie_frames=frames, movie_sim_seconds=wall)
-            row["movie_render_seconds"] = ""  # to be added by the tracer's benchmark
-            rows.append(row)
-            print(f"{cls.name:15s} {nt:4d}x{nph:<4d} {med * 1e3:8.3f} ms/step [{min(walls) * 1e3:.3f}, "
-                  f"{max(walls) * 1e3:.3f}]  {1 / med:7.1f} steps/s  {DT / med:6.3f} sim s per s"
-                  + (f"  movie sim {row['movie_sim_seconds']:.2f} s" if "movie_sim_seconds" in row else ""))
-    fields = ["model", "grid", "cells", "dt_seconds", "steps_per_run", "repeats", "step_seconds_median",
+            for nthreads in threads:
+                numba.set_num_threads(nthreads)
+                model = cls(params, FilmGrid(nt, nph, params.radius))
+                n = max(10, int(0.5 / (2e-7 * nt * nph)))  # about 0.5 s a run at ~0.2 µs a cell
+                walls, cpus = time_steps(model, n, repeats)
+                med = statistics.median(walls)
+                row = dict(model=cls.name, grid=f"{nt}x{nph}", cells=nt * nph, threads=nthreads, dt_seconds=DT,
+                           steps_per_run=n, repeats=repeats, step_seconds_median=med, step_seconds_min=min(walls),
+                           step_seconds_max=max(walls), step_cpu_seconds_median=statistics.median(cpus),
+                           steps_per_second=1 / med, simulated_seconds_per_wall_second=DT / med)
+                if not args.quick and cls is PlugFlow and nthreads == max(threads):
+                    wall, frames, steps = time_movie(model)
+                    row.update(movie_frames=frames, movie_steps=steps, movie_sim_seconds=wall)
+                row["movie_render_seconds"] = ""  # to be added by the tracer's benchmark
+                rows.append(row)
+                print(f"{cls.name:15s} {nt:4d}x{nph:<4d} {nthreads} thr {med * 1e3:8.3f} ms/step [{min(walls) * 1e3:.3f}, "
+                      f"{max(walls) * 1e3:.3f}] cpu {statistics.median(cpus) * 1e3:.3f} ms  {1 / med:7.1f} steps/s  "
+                      f"{DT / med:6.3f} sim s per s"
+                      + (f"  movie sim {row['movie_sim_seconds']:.2f} s" if "movie_sim_seconds" in row else ""))
+    fields = ["model", "grid", "cells", "threads", "dt_seconds", "steps_per_run", "repeats", "step_seconds_median",
               "step_seconds_min", "step_seconds_max", "step_cpu_seconds_median", "steps_per_second",
-              "simulated_seconds_per_wall_second", "movie_frames", "movie_sim_seconds", "movie_render_seconds"]
+              "simulated_seconds_per_wall_second", "movie_frames", "movie_steps", "movie_sim_seconds", "movie_render_seconds"]
     load = os.getloadavg()[0]
     comment = [
-        provenance("benchmarks/film_flow.py", f"numba {numba.__version__}, {numba.get_num_threads()} threads, "
-                   f"threading layer {numba.config.THREADING_LAYER}", f"load average {load:.2f} at the end",
-                   "regenerate with: python benchmarks/film_flow.py" + (" --quick" if args.quick else "")),
+        provenance("benchmarks/film_flow.py", f"numba {numba.__version__}, threads {threads}, "
+                   f"threading layer {numba.config.THREADING_LAYER}", f"load average {load_start:.2f} at the start, {load:.2f} at the end (other processes share the cores)",
+                   "regenerate with: python benchmarks/film_flow.py" + (" --quick" if args.quick else "")
+                   + (f" --threads {args.threads}" if args.threads is not None else "")),
+        "step_cpu_seconds_median: CPU time of this process a step (all its threads); with 1 thread the cost of "
+        "a step on one core, less affected by the other processes than the wall time (caches are still shared)",
         f"default FilmParameters, dt = {DT} s; movie: {MOVIE['seconds']:g} s of film time at {MOVIE['fps']} fps "
-        "(plug flow); movie_render_seconds: left for the tracer (not measured here)",
+        "(plug flow, 2100 steps of 1/210 s); movie_render_seconds: left for the tracer (not measured here)",
         f"target: {TARGET['grid']} plug flow at >= {TARGET['steps_per_second']} steps/s",
     ]
     write_csv(args.out, rows, comment, fieldnames=fields)

@@ -12,6 +12,7 @@ import math
 import sys
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from . import _kernels as K
@@ -27,6 +28,8 @@ DEFAULT_GRID = (64, 128)
 RIGID_CFL = 0.9
 #: at most this many substeps in one rigid-drainage step (a step that needs more is refused)
 MAX_SUBSTEPS = 100_000
+#: rows of a block of the plug-flow φ sweep (transposed into buffers of (n_phi + 1) x ROW_BLOCK)
+ROW_BLOCK = 8
 
 
 @dataclass(frozen=True)
@@ -108,6 +111,7 @@ class _FilmModel:
             raise ValueError(f"grid.radius must equal params.radius = {params.radius} m (got {grid.radius})")
         self.params = params
         self.grid = grid
+        self.last_state = None  # the state at the end of the last run()
         sin_f = np.sin(grid.theta_faces)
         sin_f[0] = sin_f[-1] = 0.0
         self._sin_f = sin_f
@@ -127,6 +131,9 @@ class _FilmModel:
         if state.h.shape != (self.grid.n_theta, self.grid.n_phi):
             raise ValueError(f"state.h must have shape ({self.grid.n_theta}, {self.grid.n_phi}) (got {state.h.shape})")
 
+    def _check_dt(self, dt):
+        return _check_positive("dt", dt, "s")
+
     def _initial_h(self, seed):
         p = self.params
         return p.h0 * (1.0 + p.perturbation * smooth_perturbation(self.grid, seed))
@@ -137,7 +144,8 @@ class _FilmModel:
 
         *t_end* must be a whole number of steps (to 1e-9 relative).  *progress*: ``True`` prints a
         line to stderr about every 10 %; a callable is called as ``progress(step, n_steps, state)``
-        after every saved step.  Returns a :class:`ThicknessSeries` (h in nm).
+        after every saved step.  Returns a :class:`ThicknessSeries` (h in nm); the state at the
+        end is kept as ``self.last_state`` (pass it as *state* to go on).
         """
         t_end = _check_positive("t_end", t_end, "s")
         dt = self._check_dt(dt)
@@ -164,6 +172,7 @@ class _FilmModel:
             if progress is True and (i % tick == 0 or i == n_steps):
                 print(f"{self.name}: step {i}/{n_steps}, t = {t0 + i * dt:.4g} s, "
                       f"min h = {state.h.min() * 1e9:.1f} nm", file=sys.stderr)
+        self.last_state = state
         parameters = dict(self.params.to_dict(), dt=dt, seed=int(seed), n_steps=n_steps, save_every=int(save_every),
                           grid=self.grid.to_dict())
         return ThicknessSeries(np.stack(frames), times, self.grid, parameters, self.name)
@@ -212,9 +221,6 @@ class RigidDrainage(_FilmModel):
         """h = h0 (1 + ε s), s = :func:`smooth_perturbation` (grid, seed), ε = params.perturbation."""
         return FilmState(time=0.0, h=self._initial_h(seed))
 
-    def _check_dt(self, dt):
-        return _check_positive("dt", dt, "s")
-
     def step(self, state, dt):
         """Advance *state* by *dt* s (any dt > 0; explicit substeps keep it stable)."""
         self._check_state(state)
@@ -262,7 +268,8 @@ class PlugFlow(_FilmModel):
     fast Marangoni (Gibbs) waves, which is what makes 5 ms steps possible near the poles), then
     implicit first-order upwind transport of h and Γ (positive for any dt, exactly
     conservative).  First order in time and in space for transport; the equilibrium balance is
-    second order (measured: see ``docs/film-flow.md``).
+    second order (measured: see ``docs/film-flow.md``).  A PlugFlow object owns the scratch
+    arrays of its sweeps: step one model from one thread at a time (make one model a thread).
 
     >>> from bubbleoptics.filmflow import FilmParameters, FilmGrid, PlugFlow
     >>> p = FilmParameters(evaporation=0.0)
@@ -281,15 +288,27 @@ class PlugFlow(_FilmModel):
         super().__init__(params, grid)
         g, p = self.grid, self.params
         nt, nph = g.n_theta, g.n_phi
-        self._dist_theta = np.full(nt + 1, g.theta_spacing)
-        self._gforce = p.gravity * self._sin_f
-        self._area_rows = np.ascontiguousarray(np.repeat(g.area[:, None], nph, axis=1))
-        self._phi_len = np.full(nph + 1, g.phi_face_length)
-        self._dist_phi = np.ascontiguousarray(np.repeat(g.phi_spacing[:, None], nph + 1, axis=1))
-        self._zero = np.zeros(nph + 1)
-        self._scratch_theta = np.empty((nph, K.N_SCRATCH, nt + 1))
-        self._scratch_phi = np.empty((nt, K.N_SCRATCH, nph + 1))
+        # per-face geometry of the θ sweep as (n_theta + 1, n_phi) arrays
+        self._theta_geometry = (
+            np.repeat(g.area[:, None], nph, axis=1),
+            np.repeat(g.theta_face_length[:, None], nph, axis=1),
+            np.full((nt + 1, nph), g.theta_spacing),
+            np.repeat((p.gravity * self._sin_f)[:, None], nph, axis=1),
+        )
+        # the φ sweep takes the rows ROW_BLOCK at a time (transposed into cache-sized buffers)
+        blocks = -(-nt // ROW_BLOCK)
+        rows = np.minimum(np.arange(blocks * ROW_BLOCK), nt - 1).reshape(blocks, ROW_BLOCK)
+        self._phi_geometry = np.empty((blocks, 4, nph + 1, ROW_BLOCK))
+        self._phi_geometry[:, 0] = g.area[rows][:, None, :]
+        self._phi_geometry[:, 1] = g.phi_face_length
+        self._phi_geometry[:, 2] = g.phi_spacing[rows][:, None, :]
+        self._phi_geometry[:, 3] = 0.0
+        self._scratch_theta = np.empty((K.N_SCRATCH, nt + 1, nph))
         self._two_rt = 2.0 * GAS_CONSTANT * p.temperature
+        self._chunks = max(1, min(numba.get_num_threads(), nph // 16))
+        phi_chunks = max(1, min(numba.get_num_threads(), blocks))
+        self._scratch_phi = np.empty((phi_chunks, K.N_SCRATCH, nph + 1, ROW_BLOCK))
+        self._buffers_phi = np.empty((phi_chunks, 3, nph + 1, ROW_BLOCK))
 
     def initial_state(self, seed=0):
         """h = h0 (1 + ε s1), Γ = Γ0 (h/h0)(1 + ε s2), u = 0; s1, s2 = :func:`smooth_perturbation`
@@ -301,9 +320,6 @@ class PlugFlow(_FilmModel):
         gamma = p.surfactant * (h / p.h0) * ratio
         return FilmState(time=0.0, h=h, gamma=gamma, v_theta=np.zeros((g.n_theta + 1, g.n_phi)),
                          v_phi=np.zeros((g.n_theta, g.n_phi)))
-
-    def _check_dt(self, dt):
-        return _check_positive("dt", dt, "s")
 
     def _check_state(self, state):
         super()._check_state(state)
@@ -322,11 +338,11 @@ class PlugFlow(_FilmModel):
         h = np.array(state.h, dtype=float, order="C")
         gam = np.array(state.gamma, dtype=float, order="C")
         v = np.array(state.v_theta, dtype=float, order="C")
+        K.plug_sweep_nb(h, gam, v, dt, *self._theta_geometry, p.density, p.drag, self._two_rt,
+                        self._scratch_theta, False, self._chunks)
         w = np.array(state.v_phi, dtype=float, order="C")
-        K.plug_theta_sweep_nb(h, gam, v, dt, self._area, self._theta_len, self._dist_theta, self._gforce,
-                              p.density, p.drag, self._two_rt, self._scratch_theta)
-        K.plug_phi_sweep_nb(h, gam, w, dt, self._area_rows, self._phi_len, self._dist_phi, self._zero,
-                            p.density, p.drag, self._two_rt, self._scratch_phi)
+        K.plug_rows_sweep_nb(h, gam, w, dt, self._phi_geometry, p.density, p.drag, self._two_rt, self._scratch_phi,
+                             self._buffers_phi, ROW_BLOCK)
         evaporated = K.evaporate_nb(h, p.evaporation * dt, self._area)
         return FilmState(time=state.time + dt, h=h, gamma=gam, v_theta=v, v_phi=w,
                          evaporated=state.evaporated + evaporated, substeps=1)

@@ -52,7 +52,8 @@ class FilmParameters:
         R_g T\\Gamma` ([Huang2020], the dilute limit).  Default 298.15 K [Huang2020] config.txt.
     surfactant : surface concentration :math:`\\Gamma_0` (mol m⁻², each surface) that goes with
         the thickness h0; the initial :math:`\\Gamma = \\Gamma_0 h/h_0` (perturbed, see
-        *perturbation*).  Default 1e-6 mol m⁻², ``Gammam`` of [Huang2020] config.txt.  The
+        *perturbation*).  Must be below :math:`\\sigma_w/(2R_gT(1+\\varepsilon))` (1.4e-5 mol m⁻² for the defaults),
+        so that σ stays positive even where the film's surfactant is compressed two-fold.  Default 1e-6 mol m⁻², ``Gammam`` of [Huang2020] config.txt.  The
         Gibbs elasticity of the film is :math:`E_G = 2R_gT\\Gamma` (≈ 5 mN m⁻¹ here).
     air_drag : drag coefficient :math:`C_a` of the air on both sides of the film, in
         kg m⁻² s⁻¹ (force per area per velocity), plug-flow model only.  ``None`` (default):
