@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -173,9 +174,16 @@ def test_parameters_settings_clear_and_readme_screenshot(editor):
     editor.page.mouse.click(box["x"] + 0.3 * box["width"], box["y"] + 0.45 * box["height"])
     editor.page.locator(".editor-pick").get_by_text("young").wait_for()
     editor.page.wait_for_timeout(1500)  # the spectrum's plot is drawn after its data arrive
+    # the README's screenshot: written into docs/images/ when BUBBLEOPTICS_UPDATE_SCREENSHOT=1
+    # (so that an ordinary test run leaves the checkout as it was), else to a temporary file;
+    # either way it must be a real picture of the editor
     out = ROOT / "docs" / "images" / "editor.png"
+    if os.environ.get("BUBBLEOPTICS_UPDATE_SCREENSHOT") != "1":
+        out = Path(tempfile.mkdtemp(prefix="editor-shot-")) / "editor.png"
     editor.page.screenshot(path=str(out) + f".{os.getpid()}.tmp", type="png")
     os.replace(str(out) + f".{os.getpid()}.tmp", out)
+    shot = _pixels(out.read_bytes())
+    assert shot.shape[0] >= 400 and shot.shape[1] >= 600 and shot.std() > 10  # a page, not a blank
 
     editor.button("Clear").click()
     editor.page.locator(".editor-stage .stage-cleared").wait_for()
