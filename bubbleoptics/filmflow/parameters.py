@@ -6,7 +6,11 @@ References (keys used in the docstrings)
   "Chemomechanical simulation of soap film flow on spherical bubbles", ACM TOG 39(4), 2020,
   doi:10.1145/3386569.3392094; public code github.com/RiverIntheSky/SoapBubble
   (``include/header.cuh`` for the constants, ``config.txt`` for the run configuration,
-  ``kernel/bubble.cu`` for the dimensionless groups).
+  ``kernel/bubble.cu`` for the dimensionless groups), all at commit a1eeee6 ("Modifications
+  for publication", the repository's last): radius 0.05 m, H = 1 µm, Gammam 1e-6 mol m⁻²,
+  ρ = 1000 kg m⁻³, evaporation 3e-8 m s⁻¹.  Its earlier commits 40b78f1 and c772208 had
+  radius 0.04 m, Gammam 1.5e-7, ρ = 997 and evaporation 8e-8 and 8e-9; the 4 cm radius here is
+  that of those commits (and of issue 11), the other constants the publication's.
 * [IAPWS2008] IAPWS, Release on the IAPWS Formulation 2008 for the viscosity of ordinary water
   substance: 1.0016 mPa s at 20 °C, 0.1 MPa.
 * [CODATA2014] P. J. Mohr et al., CODATA recommended values 2014: R = 8.3144598 J mol⁻¹ K⁻¹.
