@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import os
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +37,19 @@ def _pixels(png_bytes):
     import imageio.v3 as iio
 
     return iio.imread(io.BytesIO(png_bytes)).astype(int)
+
+
+def _settles_to(editor, expected, seconds=10.0):
+    """Whether the editor's image becomes pixel for pixel *expected* (screenshot bytes) within
+    *seconds*: the browser may paint the new image a moment after its version is on the page
+    (under load, a screenshot can still catch the one before)."""
+    end = time.monotonic() + seconds
+    while True:
+        if np.array_equal(_pixels(editor.screenshot()), _pixels(expected)):
+            return True
+        if time.monotonic() > end:
+            return False
+        editor.page.wait_for_timeout(100)
 
 
 @pytest.fixture(scope="module")
@@ -165,7 +179,7 @@ def test_parameters_settings_clear_and_readme_screenshot(editor):
     editor.click_and_wait("Orbit")
     assert np.abs(_pixels(editor.screenshot()) - _pixels(before)).max() > 20
     editor.click_and_wait("Undo")
-    assert editor.screenshot() == before
+    assert _settles_to(editor, before)
     editor.fill("depth", "0")
     editor.button("Apply settings").click()
     editor.expect_message("depth", "depth must be an integer from 1 to 1000")

@@ -753,10 +753,27 @@ def test_writer_output_is_what_tomli_w_writes_with_the_header_as_comments():
 
 def test_the_toml_example_in_the_docs_loads(tmp_path):
     doc = (ROOT / "docs" / "scene-format.md").read_text(encoding="utf-8")
-    example = doc.split("```toml\n", 1)[1].split("```", 1)[0]
+    example = doc.split("### Example\n", 1)[1].split("```toml\n", 1)[1].split("```", 1)[0]
     scene = load_toml_scene(write(tmp_path, example, "example.toml"))
     assert [s.name for s in scene.spheres] == ["marble"] and scene.spheres[0].material.name == "glass"
     assert scene.bubbles[0].film.kind == "draining" and scene.meshes[0].faces.shape == (2, 3)
+
+
+def test_the_simulated_film_example_in_the_docs_loads(tmp_path):
+    """docs/scene-format.md's [bubbles.film] kind = "simulated" snippet, with a series file made
+    by bubbleoptics.filmflow where it names one."""
+    import numpy as np
+
+    from bubbleoptics.filmflow import FilmGrid, ThicknessSeries
+
+    doc = (ROOT / "docs" / "scene-format.md").read_text(encoding="utf-8")
+    snippet = doc.split("**Simulated film.**", 1)[1].split("```toml\n", 1)[1].split("```", 1)[0]
+    ThicknessSeries(np.full((2, 4, 8), 900.0), [0.0, 60.0], FilmGrid(4, 8, 0.04), {}, "test").save(
+        tmp_path / "drainage.npz")
+    scene = load_toml_scene(write(tmp_path, snippet, "simulated.toml"))
+    film = scene.bubbles[0].film
+    assert film.kind == "simulated" and film.time_s == 30.0 and film.rupture_nm == 5.0
+    assert film.series.h_nm.shape == (2, 4, 8)
 
 
 def test_coursework_text_can_be_parsed_from_a_string():

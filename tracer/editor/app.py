@@ -21,6 +21,7 @@ import socket
 import sys
 import threading
 import time
+import weakref
 from functools import partial
 from pathlib import Path
 
@@ -45,6 +46,8 @@ DEFAULT_SIZE = 960
 #: The preview's side on the page, in CSS pixels.
 VIEW_PX = 560
 _FILM_FIELDS = [f for f in BUBBLE_FIELDS if f != "shininess"]
+#: The editors alive in this process (their previews are stopped when the server stops).
+_APPS = weakref.WeakSet()
 #: A widget's caption: ``label`` from Panel 1.9 on (``name`` is deprecated there), ``name`` before.
 _LABEL = "label" if "label" in pn.widgets.TextInput.param else "name"
 
@@ -112,6 +115,7 @@ class EditorApp:
         self._server_ms, self._render_ms = {}, {}
         self._build(view_px)
         self.preview = PreviewRenderer(self._on_image, self._on_render_error)
+        _APPS.add(self)
         self._fill_lists()
         if self._served():  # the first render once the page is connected (an image sent earlier can be lost)
             pn.state.onload(self.refresh)
@@ -590,9 +594,22 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
     finally:
         signal.signal(signal.SIGTERM, previous)
         server.stop()
+        _quiesce()
     if not quiet:
         print("tracer edit: stopped", file=sys.stderr, flush=True)
     return 0
+
+
+def _quiesce(seconds=30.0):
+    """Stop every editor's preview and keep numba's thread pool idle from now on: the renders in
+    flight stop at their next ray, and the lock that every parallel kernel takes is taken here
+    and not given back, so that no kernel runs while the interpreter exits (numba's workqueue
+    layer aborts the process when its threads are torn down mid-kernel)."""
+    from ..render import PARALLEL_LOCK
+
+    for editor in list(_APPS):
+        editor.close()
+    PARALLEL_LOCK.acquire(timeout=seconds)
 
 
 def _open_browser(url):

@@ -174,7 +174,7 @@ class EditorPage:
         loc = self.page.locator(f".editor-stage .stage-{stage}")
         return int(loc.get_attribute("data-version")) if loc.count() else -1
 
-    def wait_full(self, after, timeout=60):
+    def wait_full(self, after, timeout=180):
         """Wait until the full-resolution image of a version newer than *after* is shown."""
         end = time.monotonic() + timeout
         while self.version("full") <= after:
