@@ -1,31 +1,37 @@
 """Run time against error: the tracer's settings measured against a converged reference render.
 
-Run:  python benchmarks/time_vs_error.py [--quick] [--repeats N] [--ref-spp N] [--reuse-refs]
+Run:  python benchmarks/time_vs_error.py [--quick] [--repeats N] [--seeds N] [--ref-spp N] [--reuse-refs]
                                          [--out CSV [--refs-dir DIR]]
-Writes ``data/derived/time_vs_error.csv`` and the reference images (read by
+Writes ``data/derived/time_vs_error.csv`` and the reference images with their masks (read by
 ``notebooks/04_time_vs_error.ipynb`` and ``paper/scripts/fig_time_vs_error.py``).  ``--quick``
-(48 x 48, one timed run per setting) writes nothing unless ``--out`` names a file, with the
-references in ``--refs-dir`` (default: ``<out>_refs/`` beside it); the notebook runs it so in
-quick mode.
+(48 x 48, two seeds, one timed run per setting) writes nothing unless ``--out`` names a file,
+with the references in ``--refs-dir`` (default: ``<out>_refs/`` beside it); the notebook runs it
+so in quick mode.
 
-This script renders; the study itself -- the settings swept, the reference, the error metrics,
-the interior pixels, the front and the verdict on the defaults -- is
-:mod:`bubbleoptics.study.tradeoffs` (its docstring describes each), which the notebook and the
-paper import as well.
+This script renders; the study itself -- the settings swept, the references and their floor,
+the error metrics, the interior and bubble pixels, the front and the verdict on the defaults
+-- is :mod:`bubbleoptics.study.tradeoffs` (its docstring describes and justifies each), which the
+notebook and the paper import as well.
 
 Scenes (:func:`scene_files`): the built-in scene (``tracer.default_scene()``), six bubbles
-(``data/scenes/gallery_bubbles.toml``, or ``bubbles_sky.toml`` where that file is missing) and
-the coursework's mixed materials (``data/scenes/fig3_5_materials.txt``: a bubble over glass,
-metal and matte spheres).  160 x 160 pixels (quick: 48 x 48).
+(``data/scenes/gallery_bubbles.toml``, or ``bubbles_sky.toml`` where that file is missing), the
+coursework's mixed materials (``data/scenes/fig3_5_materials.txt``: a bubble over glass, metal
+and matte spheres) and three bubbles with films of 1.6-3 µm (``data/scenes/thick_films.toml``,
+where ``spectral_method="auto"`` picks band averaging).  160 x 160 pixels (quick: 48 x 48).
 
-The reference is rendered once per scene and timed once (20-30 s per bubble scene at 160 x 160
-on two cores; the whole benchmark takes about two minutes); its time is the denominator of
-``speedup_vs_reference``.  Sweeps, one factor at a time around the current ``tracer.DEFAULTS``
-(band-averaged films when ``tracer.render_with_stats`` accepts ``spectral_method="band"``):
-each distinct setting is rendered once for the errors and timed ``--repeats`` times (median),
-the repeats interleaved over all settings of a scene so that a disturbance on the shared
-machine spreads over all of them.  Time is ``RenderStats.render_seconds`` (compilation
-excluded; each setting is first rendered at 4 x 4 to load its compiled code).
+Two references per scene (seeds 1 and ``FLOOR_SEED``), each timed once (10-30 s per bubble scene
+at 160 x 160 on two cores; the whole benchmark takes about five minutes on the shared machine):
+the first is the reference, the second is scored against it (the ``floor`` row), and the two
+with the scene's geometry give the interior mask (``tradeoffs.interior_mask``); the bubble mask
+comes from the geometry alone.  Their mean time is the denominator of ``speedup_vs_reference``.
+Sweeps, one factor at a time around the current ``tracer.DEFAULTS`` (band-averaged films when
+``tracer.render_with_stats`` accepts ``spectral_method="band"``): each distinct setting is
+rendered with ``--seeds`` seeds (default 3) for the errors (mean and standard deviation over
+seeds) and timed ``--repeats`` times (default 5; median, min and max), the repeats interleaved
+over all settings of a scene so that a disturbance on the shared machine spreads over all of
+them.  Time is ``RenderStats.render_seconds`` (compilation excluded; each setting is first
+rendered at 4 x 4 to load its compiled code).  The machine's load average before and after
+goes into the CSV's first line.
 
 RGB transport: ``spectral=False`` carries three linear-sRGB channels and has no wavelength, so a
 thin film cannot be evaluated at all (no interference colour is possible).  With the current
@@ -77,8 +83,6 @@ OUT_CSV = DERIVED / "time_vs_error.csv"
 REFS_DIR = DERIVED / "time_vs_error_refs"
 FULL_SIZE = 160
 QUICK_SIZE = 48
-#: Samples per pixel of the references in quick mode (a smoke test: its floor is high).
-QUICK_SPP = 4
 
 # ------------------------------------------------------------------------------------------
 # Scenes and settings
@@ -273,13 +277,13 @@ def write_rows(rows, path, notes=()):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
-                        help=f"{QUICK_SIZE}x{QUICK_SIZE}, {QUICK_SPP} spp references, one timed run, two seeds; "
+                        help=f"{QUICK_SIZE}x{QUICK_SIZE}, one timed run, two seeds; "
                              "nothing written unless --out is given")
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per setting (median, min-max)")
     parser.add_argument("--seeds", type=int, default=3,
                         help=f"seeds per setting for the errors (the first of {SWEEP_SEEDS})")
     parser.add_argument("--ref-spp", type=int, default=None,
-                        help=f"samples per pixel of the references (default {REFERENCE['spp']}; quick {QUICK_SPP})")
+                        help=f"samples per pixel of the references (default {REFERENCE['spp']})")
     parser.add_argument("--size", type=int, default=None, help=f"image side (default {FULL_SIZE})")
     parser.add_argument("--reuse-refs", action="store_true",
                         help="use the saved reference images (and their times) if made with the same settings")
@@ -292,7 +296,7 @@ def main(argv=None):
     size = args.size or (QUICK_SIZE if quick else FULL_SIZE)
     repeats = 1 if quick else args.repeats
     seeds = min(2, args.seeds) if quick else args.seeds
-    ref_spp = args.ref_spp or (QUICK_SPP if quick else REFERENCE["spp"])
+    ref_spp = args.ref_spp or REFERENCE["spp"]
 
     t_start = time.perf_counter()
     load_before = os.getloadavg()[0]
