@@ -379,7 +379,8 @@ def combine_seeds(errors):
     for m in ERROR_METRICS:
         if m in errors[0]:
             values = np.array([e[m] for e in errors], dtype=float)
-            out[f"{m}_sd"] = float(values.std(ddof=1)) if len(values) > 1 else 0.0
+            same = bool(np.all(values == values[0]))  # identical renders: exactly 0, not rounding noise
+            out[f"{m}_sd"] = 0.0 if same or len(values) < 2 else float(values.std(ddof=1))
     out["nonfinite_pixels"] = int(out.get("nonfinite_pixels", 0))
     out["seeds"] = len(errors)
     return out
