@@ -198,3 +198,19 @@ def test_the_mask_no_longer_favours_one_sample_per_pixel():
     assert abs(err["new", 4] - err["new", 1]) < floor
     assert err["new", 16] < err["new", 1] < err["new", 4]
     assert err["bubble", 4] < err["bubble", 1] and err["silhouettes", 4] < err["silhouettes", 1]
+
+
+@pytest.mark.analytic
+def test_scene_front_drops_the_defaults_twin():
+    """A row with the defaults' own image under another setting ("point" where "auto" picks point),
+    timed faster by chance, is the same render: it neither joins the front nor pushes the defaults
+    off it; a different image that is faster and more accurate does."""
+    rows = [_row("a", "reference", "reference", 100.0, 0.0, spp=16),
+            _row("a", "default", "default", 2.0, 0.04, default=True),
+            _row("a", "threshold", "0.001", 2.0, 0.04, default=True),
+            _row("a", "spp", "4", 8.0, 0.02, spp=4)]
+    twin = dict(_row("a", "spectral", "16", 1.5, 0.04), spectral_method="point")
+    sf = tradeoffs.scene_front(rows + [twin], "a")
+    assert sf["default_on_front"] and all(r["spectral_method"] != "point" for r in sf["points"])
+    other = dict(twin, mean_de00=0.039, interior_mean_de00=0.039)
+    assert not tradeoffs.scene_front(rows + [other], "a")["default_on_front"]

@@ -673,7 +673,9 @@ def scene_front(rows, scene, metric="interior_mean_de00"):
     """One scene's study as the paper draws and quotes it: its settings, the front, the defaults.
 
     Returns a dict with ``points`` (:func:`scene_points` without the reference, the floor and
-    the ``default`` rows: every setting once, under the factor it was swept in), ``front``
+    the ``default`` rows: every setting once, under the factor it was swept in, less the rows
+    whose image is the defaults' own under another setting, e.g. ``"point"`` where the
+    defaults' ``"auto"`` picks point sampling: the same render timed twice), ``front``
     (indices into ``points`` on the Pareto front of (seconds, *metric*), by increasing time),
     ``default`` (the row of the defaults the benchmark ran with, ``is_default``),
     ``default_on_front``, ``reference_seconds`` and ``floor`` (the second reference's row, or
@@ -682,9 +684,14 @@ def scene_front(rows, scene, metric="interior_mean_de00"):
     sel = [r for r in rows if r["scene"] == scene]
     if not sel:
         raise ValueError(f"no rows for scene {scene!r}")
-    pts = scene_points(rows, scene, skip=("reference", "default", "floor"))
-    idx = pareto_front([r["seconds"] for r in pts], [r[metric] for r in pts])
     default = next(r for r in sel if r["is_default"] == 1)
+
+    def twin(r):  # the defaults' own image under another name ("point" where "auto" picks point)
+        return row_key(r) != row_key(default) and all(r[m] == default[m] for m in ("mean_de00", "p95_de00", "rmse",
+                                                                                   metric))
+
+    pts = [r for r in scene_points(rows, scene, skip=("reference", "default", "floor")) if not twin(r)]
+    idx = pareto_front([r["seconds"] for r in pts], [r[metric] for r in pts])
     return {
         "points": pts,
         "front": idx,
