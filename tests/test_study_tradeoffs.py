@@ -214,3 +214,22 @@ def test_scene_front_drops_the_defaults_twin():
     assert sf["default_on_front"] and all(r["spectral_method"] != "point" for r in sf["points"])
     other = dict(twin, mean_de00=0.039, interior_mean_de00=0.039)
     assert not tradeoffs.scene_front(rows + [other], "a")["default_on_front"]
+
+
+@pytest.mark.regression
+def test_one_sample_per_pixel_does_not_depend_on_the_seed_on_the_studys_scenes():
+    """What the benchmark relies on to render a 1-spp setting once for all seeds
+    (``seed_independent``): on the study's scenes (no light of radius > 0) a 1-spp image is the
+    same for any seed, a 4-spp one is not."""
+    from pathlib import Path
+
+    import tracer
+
+    scenes = Path(__file__).resolve().parents[1] / "data" / "scenes"
+    for scene in (tracer.default_scene(), tracer.load_scene(scenes / "thick_films.toml"),
+                  tracer.load_scene(scenes / "fig3_5_materials.txt")):
+        assert all(light.radius == 0 for light in scene.lights)
+        one = [tracer.render(scene, width=24, height=24, spp=1, seed=seed, progress=False) for seed in (0, 3)]
+        np.testing.assert_array_equal(one[0], one[1])
+        four = [tracer.render(scene, width=24, height=24, spp=4, seed=seed, progress=False) for seed in (0, 3)]
+        assert np.abs(four[0] - four[1]).max() > 0
