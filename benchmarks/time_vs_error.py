@@ -20,7 +20,7 @@ and matte spheres) and three bubbles with films of 1.6-3 µm (``data/scenes/thic
 where ``spectral_method="auto"`` picks band averaging).  160 x 160 pixels (quick: 48 x 48).
 
 Two references per scene (seeds 1 and ``FLOOR_SEED``), each timed once (10-30 s per bubble scene
-at 160 x 160 on two cores; the whole benchmark takes about five minutes on the shared machine):
+at 160 x 160 on two cores; the whole benchmark takes three to five minutes on the shared machine):
 the first is the reference, the second is scored against it (the ``floor`` row), and the two
 with the scene's geometry give the interior mask (``tradeoffs.interior_mask``); the bubble mask
 comes from the geometry alone.  Their mean time is the denominator of ``speedup_vs_reference``.

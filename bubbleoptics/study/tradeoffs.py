@@ -17,7 +17,10 @@ keyword arguments of ``tracer.render_with_stats``.
 * **The reference's floor**: a second reference, the same settings with seed :data:`FLOOR_SEED`,
   scored against the first like any setting (the ``floor`` row).  It is what an independent
   render as good as the reference achieves: errors within about the floor are not resolved
-  (:func:`assess` treats them as equal).
+  (:func:`assess` treats them as equal).  On the interior pixels the floor is a lower
+  estimate: the mask keeps pixels where the two references agree to within :data:`AA_DE00`; on
+  all pixels and on the bubble pixels (masks that do not look at the references) it is not
+  conditioned.
 * **Errors** (:func:`image_errors`): per-pixel CIEDE2000 on linear sRGB with negative values
   clipped to 0 (:func:`bubbleoptics.study.delta_e00_images`), its mean and 95th percentile, and
   the RMSE in linear sRGB; non-finite pixels counted and set to 0.  The same on three sets of
