@@ -27,7 +27,7 @@ comes from the geometry alone.  Their mean time is the denominator of ``speedup_
 Sweeps, one factor at a time around the current ``tracer.DEFAULTS`` (band-averaged films when
 ``tracer.render_with_stats`` accepts ``spectral_method="band"``): each distinct setting is
 rendered with ``--seeds`` seeds (default 3) for the errors (mean and standard deviation over
-seeds) and timed ``--repeats`` times (default 5; median, min and max), the repeats interleaved
+seeds) and timed ``--repeats`` times (default 9; median, min and max), the repeats interleaved
 over all settings of a scene so that a disturbance on the shared machine spreads over all of
 them.  Time is ``RenderStats.render_seconds`` (compilation excluded; each setting is first
 rendered at 4 x 4 to load its compiled code).  The machine's load average before and after
@@ -190,7 +190,7 @@ def estimate_reference_seconds(scene, size, spp=REFERENCE["spp"], fraction=1 / 1
     return stats.render_seconds * (size / small) ** 2
 
 
-def run(size=FULL_SIZE, repeats=5, ref_spp=REFERENCE["spp"], scenes=None, band=None, references=None,
+def run(size=FULL_SIZE, repeats=9, ref_spp=REFERENCE["spp"], scenes=None, band=None, references=None,
         progress=True, seeds=3):
     """Render the references and every setting; return (rows, references).
 
@@ -291,7 +291,7 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK_SIZE}x{QUICK_SIZE}, one timed run, two seeds; "
                              "nothing written unless --out is given")
-    parser.add_argument("--repeats", type=int, default=5, help="timed runs per setting (median, min-max)")
+    parser.add_argument("--repeats", type=int, default=9, help="timed runs per setting (median, min-max)")
     parser.add_argument("--seeds", type=int, default=3,
                         help=f"seeds per setting for the errors (the first of {SWEEP_SEEDS})")
     parser.add_argument("--ref-spp", type=int, default=None,
