@@ -155,8 +155,9 @@ def test_configurations_sweep_around_the_defaults():
 @pytest.mark.api
 def test_references_round_trip(tmp_path):
     rng = np.random.default_rng(0)
-    refs = {"s": dict(image=rng.uniform(0, 1, (4, 5, 3)), interior=rng.uniform(size=(4, 5)) > 0.5, seconds=2.0,
-                      seconds_1spp=0.1, floor_errors=dict(mean_de00=0.3))}
+    refs = {"s": dict(image=rng.uniform(0, 1, (4, 5, 3)), interior=rng.uniform(size=(4, 5)) > 0.5,
+                      bubble=rng.uniform(size=(4, 5)) > 0.5, seconds=2.0, seconds_ideal=0.1,
+                      floor_errors=dict(mean_de00=0.3))}
     folder = tradeoffs.save_references(refs, 4, 16, tmp_path / "refs", written_by="test")
     back = tradeoffs.load_references(folder, 4, 16)
     np.testing.assert_allclose(back["s"]["image"], refs["s"]["image"], rtol=1e-7)  # float32 on disk
