@@ -46,6 +46,7 @@ import numpy as np
 from .coursework_format import _Reader, split_lines
 from .errors import SceneError
 from .limits import MAX_INDEX, MAX_MAGNITUDE
+from .output import DISPLAY_DEFAULTS
 from .scene import Camera, PointLight, Scene
 from .scene_text import read_scene_text
 
@@ -129,7 +130,7 @@ class Frame:
     settings: dict
     time: float = 0.0
     line: int | None = None
-    display: dict = field(default_factory=lambda: {"exposure": 0.0, "view": "clip"})
+    display: dict = field(default_factory=lambda: dict(DISPLAY_DEFAULTS))
     spectral: bool = False
 
     def key(self, bits=8) -> str:
@@ -785,7 +786,7 @@ class Timeline:
 
             settings = resolve_settings(self._start.scene)
         lines = [line for _, _, count, line in self._segments for _ in range(count)]
-        return [Frame(i, scene, dict(settings), time, line, dict(display or {"exposure": 0.0, "view": "clip"}),
+        return [Frame(i, scene, dict(settings), time, line, dict(display or DISPLAY_DEFAULTS),
                       bool(spectral)) for i, ((scene, time), line) in enumerate(zip(self.scenes(), lines))]
 
 
