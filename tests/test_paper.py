@@ -24,6 +24,8 @@ from pathlib import Path
 
 import pytest
 
+import paper_helpers
+
 pytestmark = pytest.mark.api
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -80,7 +82,7 @@ def test_every_declared_macro_is_written(numbers):
 
 
 def test_every_number_in_the_paper_is_a_macro(numbers):
-    used = set(re.findall(r"\\([A-Z][A-Za-z]*)", (PAPER / "paper.tex").read_text(encoding="utf-8")))
+    used = set(re.findall(r"\\([A-Z][A-Za-z]*)", paper_helpers.source()))
     missing = sorted(used - NOT_NUMBERS - set(numbers))
     assert not missing, f"paper.tex uses macros that numbers.tex does not define: {missing}"
 
@@ -129,7 +131,7 @@ def test_prose_filter_finds_typed_numbers():
 def test_no_number_with_a_unit_is_typed_in_the_prose(numbers):
     """Results, settings and constants in the text are macros (numbers.tex), not typed: no number
     with a unit or a count noun outside mathematics, and no machine name typed where a macro has it."""
-    text = prose((PAPER / "paper.tex").read_text(encoding="utf-8"))
+    text = prose(paper_helpers.source())
     typed = sorted({m.group(0) for m in TYPED_WITH_UNIT.finditer(text)})
     assert not typed, f"typed numbers in paper.tex (make them macros of make_numbers.py): {typed}"
     for name, value in numbers.items():
@@ -204,6 +206,7 @@ def built(tmp_path_factory):
     build = tmp_path_factory.mktemp("paper")
     for name in ("paper.tex", "references.bib"):
         shutil.copy(PAPER / name, build / name)
+    shutil.copytree(PAPER / "sections", build / "sections")
     env = dict(os.environ, BUBBLEOPTICS_FIGURES_DIR=str(build / "figures"), MPLBACKEND="Agg")
     if (SCRIPTS / "make_figures.py").exists():
         result = run([SCRIPTS / "make_figures.py", "--quick"], timeout=600, env=env)  # a shared 2-core machine

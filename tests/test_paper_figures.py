@@ -23,6 +23,8 @@ from pathlib import Path
 import pytest
 from PIL import Image
 
+import paper_helpers
+
 PAPER = Path(__file__).resolve().parents[1] / "paper"
 SCRIPTS = PAPER / "scripts"
 FIGURE_SCRIPTS = sorted(SCRIPTS.glob("fig_*.py"))
@@ -130,7 +132,7 @@ def test_every_figure_is_drawn_at_the_width_of_its_slot(quick_figures):
     """Each figure PDF is as wide as the column or page it is placed in, so LaTeX scales it by
     less than SLOT_TOLERANCE and its type prints at the size the script set."""
     out, _ = quick_figures
-    placed = slots((PAPER / "paper.tex").read_text(encoding="utf-8"))
+    placed = slots(paper_helpers.source())
     assert sorted(placed) == sorted(p.stem for p in FIGURE_SCRIPTS), "figures placed vs figure scripts"
     for name, slot in placed.items():
         width, height = media_box(out / f"{name}.pdf")

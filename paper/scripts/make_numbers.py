@@ -35,7 +35,12 @@ Sources, section by section:
 * ``defaults``: the renderer's defaults, from :data:`tracer.DEFAULTS` (what :func:`tracer.render` uses), and the film
   thickness at which its default spectral method switches (:func:`bubbleoptics.point_sampling_limit_nm`).
 
-Two macros are flags for ``\\ifnum`` in the text (:data:`FLAGS`): they are 0 or 1, never n/a.
+Some macros are flags for ``\\ifnum`` in the text (:data:`FLAGS`): they are 0 or 1, never n/a.
+
+More sections live in ``numbers_*.py`` beside this script (one module per paper chapter, e.g.
+``numbers_movies.py``): each defines ``SECTIONS`` in the same form as here and optionally
+``FLAGS``, and may import the formatting helpers from this module.  :func:`all_sections` merges
+them after this file's own, in module-name order; a name defined twice is an error.
 
 Number formats: :func:`significant` (plain decimals, thousands separated by a thin space) and
 :func:`scientific` (``a\\times10^{k}``, wrapped in ``\\ensuremath`` so a macro works in text and
@@ -60,7 +65,7 @@ DATA = paths.DATA
 OUT = ROOT / "paper" / "numbers.tex"
 NA = r"\NumberNA{}"
 
-__all__ = ["SECTIONS", "declared_macros", "significant", "scientific", "build", "main"]
+__all__ = ["SECTIONS", "all_sections", "all_flags", "declared_macros", "significant", "scientific", "build", "main"]
 
 
 # ------------------------------------------------------------------------------------------
@@ -971,10 +976,40 @@ FLAGS = {"BandlimitedAvailable": "0", "CourseworkBestIsAffine": "0", "TvEDefault
          "TvEDefaultsQualify": "0"}
 
 
+def _plugins():
+    """The ``numbers_*.py`` modules beside this script, imported, in name order."""
+    import importlib
+
+    here = Path(__file__).resolve().parent
+    if str(here) not in sys.path:
+        sys.path.insert(0, str(here))
+    return [importlib.import_module(path.stem) for path in sorted(here.glob("numbers_*.py"))]
+
+
+def all_sections():
+    """:data:`SECTIONS` followed by every plug-in module's ``SECTIONS``."""
+    merged = dict(SECTIONS)
+    for module in _plugins():
+        for name, section in module.SECTIONS.items():
+            if name in merged:
+                raise RuntimeError(f"section {name} of {module.__name__}.py is defined twice")
+            merged[name] = section
+    return merged
+
+
+def all_flags():
+    """:data:`FLAGS` and every plug-in module's ``FLAGS``."""
+    merged = dict(FLAGS)
+    for module in _plugins():
+        merged.update(getattr(module, "FLAGS", {}))
+    return merged
+
+
 def build(dirs):
     """``(macros, warnings)``: {name: (LaTeX text, section)} for every declared macro, and messages."""
     macros, warnings_ = {}, []
-    for section, (inputs, function, names) in SECTIONS.items():
+    flags = all_flags()
+    for section, (inputs, function, names) in all_sections().items():
         try:
             values = function(dirs)
         except Exception as exc:  # noqa: BLE001 - any failure of the data becomes n/a, by design
@@ -989,7 +1024,7 @@ def build(dirs):
                 raise RuntimeError(f"macro name {name!r} is not a TeX control word (letters only)")
             if name in macros:
                 raise RuntimeError(f"macro {name} declared twice")
-            text = values.get(name, FLAGS.get(name, NA))
+            text = values.get(name, flags.get(name, NA))
             if text == NA and not failed and not (name.startswith("Bandlimited") and values.get(
                     "BandlimitedAvailable") == "0"):
                 warnings_.append(f"{section}: {name} is n/a")
@@ -1004,9 +1039,10 @@ def render(macros):
         r"\providecommand{\NumberNA}{\textbf{n/a}}",
     ]
     section = None
+    sections = all_sections()
     for name, (text, sec) in macros.items():
         if sec != section:
-            lines.append(f"% --- {sec}: {', '.join(SECTIONS[sec][0])}")
+            lines.append(f"% --- {sec}: {', '.join(sections[sec][0])}")
             section = sec
         lines.append(rf"\newcommand{{\{name}}}{{{text}}}")
     return "\n".join(lines) + "\n"
@@ -1014,7 +1050,7 @@ def render(macros):
 
 def declared_macros():
     """Every macro name the sections declare, in order (what ``--list-macros`` prints)."""
-    return [name for _, _, names in SECTIONS.values() for name in names]
+    return [name for _, _, names in all_sections().values() for name in names]
 
 
 def main(argv=None):

@@ -21,13 +21,16 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 from pathlib import Path
 
-__all__ = ["ROOT", "DATA", "DERIVED", "COURSEWORK_TABLE", "TIMING", "FIGURES", "figures_dir", "parse_args"]
+__all__ = ["ROOT", "DATA", "DERIVED", "COURSEWORK_TABLE", "TIMING", "FIGURES", "PAPER", "figures_dir", "parse_args",
+           "paper_source"]
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "data"
 DERIVED = DATA / "derived"
+PAPER = ROOT / "paper"
 
 #: The coursework's table 4.1 (transcribed; provenance in data/README.md).
 COURSEWORK_TABLE = DATA / "coursework_table_4_1.csv"
@@ -41,6 +44,25 @@ def figures_dir() -> Path:
     """``FIGURES``, created if missing."""
     FIGURES.mkdir(parents=True, exist_ok=True)
     return FIGURES
+
+
+_INPUT = re.compile(r"\\input\{(sections/[A-Za-z0-9_]+)\}")
+
+
+def paper_source(paper=None) -> str:
+    """The text of ``paper.tex`` with every ``\\input{sections/NAME}`` replaced by that file (one
+    level; the sections input nothing), as LaTeX reads it: what the tests scan for typed numbers,
+    macros and figure slots.  A missing section file is an error naming it."""
+    folder = Path(paper) if paper is not None else PAPER
+    text = (folder / "paper.tex").read_text(encoding="utf-8")
+
+    def expand(match):
+        path = folder / f"{match.group(1)}.tex"
+        if not path.exists():
+            raise FileNotFoundError(f"paper.tex inputs {match.group(1)}, but {path} does not exist")
+        return path.read_text(encoding="utf-8")
+
+    return _INPUT.sub(expand, text)
 
 
 def parse_args(description: str, argv=None) -> argparse.Namespace:
