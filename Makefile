@@ -41,8 +41,10 @@ chromium:
 	    echo "no chromium: the editor's browser tests will skip (sudo apt-get install chromium, or set TRACER_CHROMIUM)"; \
 	fi
 
-## make bench: the speed benchmarks (not part of the tests; results go to data/derived/).
+## make bench: the speed benchmarks (not part of the tests; results go to data/derived/), with
+## Mitsuba 3 as the peer on a glass sphere (installed here, the `mitsuba` extra).
 bench: $(STAMP)
+	$(PY) -m pip install --quiet -e '.[mitsuba]'
 	$(PY) benchmarks/optics_speed.py
 	$(PY) benchmarks/coursework_table.py
 	$(PY) benchmarks/bandlimited_colour.py
@@ -50,6 +52,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/time_vs_error.py
 	$(PY) benchmarks/throughput.py
 	$(PY) benchmarks/editor_latency.py
+	$(PY) benchmarks/peer_mitsuba.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
 paper: $(STAMP)

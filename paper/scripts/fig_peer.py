@@ -6,7 +6,7 @@ the optional ``mitsuba`` package); writes ``fig_peer.pdf``/``.png``.
 
 (a) RMSE (linear RGB) and (b) mean CIEDE2000 against the reference (one above the other, one
 column wide), both against seconds per 256x256 image (median of the runs, compilation
-excluded), log-log.  Ours: Whitted, exhaustive tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
+excluded; horizontal bars, the fastest to the slowest of the runs in ``seconds_runs``), log-log.  Ours: Whitted, exhaustive tree (threshold 0, solid) and pruned (threshold 1e-3, dashed), 1-64 spp.  Mitsuba 3 ``path``:
 LLVM variant with the stratified and the independent sampler (1-4096 spp), scalar variant with
 the stratified sampler (1-1024 spp).  Numbers beside the points: samples per pixel (every point
 of the two main curves, the last point of the others).  Dotted grey:
@@ -47,6 +47,14 @@ def read_rows(path):
     return notes, rows
 
 
+def run_range(row):
+    """(fastest, slowest) of a configuration's timed runs (``seconds_runs``, space-separated);
+    the median itself when the row has no runs listed."""
+    runs = [float(x) for x in row.get("seconds_runs", "").split()]
+    median = float(row["seconds"])
+    return (min(runs + [median]), max(runs + [median]))
+
+
 def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
     notes, rows = read_rows(PEER)
@@ -65,6 +73,9 @@ def main(argv=None):
                 continue
             t = np.array([float(r["seconds"]) for r in curve])
             e = np.array([float(r[metric]) for r in curve])
+            low_high = np.array([run_range(r) for r in curve])
+            ax.errorbar(t, e, xerr=[t - low_high[:, 0], low_high[:, 1] - t], fmt="none", ecolor=colors[ci],
+                        elinewidth=0.6, capsize=1.2, capthick=0.6)
             ax.plot(t, e, ls, marker=marker, color=colors[ci], label=label, markersize=2.8,
                     markerfacecolor="white" if ls != "-" else colors[ci], markeredgewidth=0.7)
             labelled = range(len(curve)) if which == "all" else [len(curve) - 1]

@@ -783,6 +783,15 @@ def peer(dirs):
     out["PeerGlassIndex"] = m.group(1) if m else NA
     m = re.search(r"or ([0-9.e+-]+) \(pruned\)", " ".join(notes))
     out["PeerPrunedThreshold"] = scientific(float(m.group(1)), 1) if m else NA
+    m = re.search(r"other processes used <= (\d+)% of the CPUs", " ".join(notes))
+    out["PeerCleanSharePercent"] = m.group(1) if m else NA
+    # run-to-run spread of the timed configurations: the largest (max - min) / median over them
+    spreads = []
+    for row in sweep:
+        runs = [float(x) for x in row.get("seconds_runs", "").split()]
+        if len(runs) >= 2:
+            spreads.append((max(runs) - min(runs)) / float(row["seconds"]))
+    out["PeerSpreadMedianPercent"] = significant(100 * sorted(spreads)[len(spreads) // 2], 2) if spreads else NA
     for metric, tag in (("rmse", "Rmse"), ("mean_de00", "De")):
         target = float(four[metric])
         out[f"PeerTarget{tag}"] = scientific(target, 2) if metric == "rmse" else significant(target, 2)
@@ -801,6 +810,7 @@ def peer(dirs):
 
 PEER_MACROS = (
     ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerTargetSpp", "PeerGlassIndex", "PeerPrunedThreshold",
+     "PeerCleanSharePercent", "PeerSpreadMedianPercent",
      "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse", "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe",
      "PeerSampleCostRatio", "PeerSampleCountRatio",
      "PeerMitsubaSppNeeded"]
@@ -872,10 +882,15 @@ def defaults(dirs):
         "AutoSwitchUm": significant(float(bo.point_sampling_limit_nm(bands)) / tracer.pack.AUTO_FRINGE_BANDS
                                     / 1000, 2),
         "AutoFringeBands": significant(tracer.pack.AUTO_FRINGE_BANDS, 2),
+        # where auto would switch with twice the default bands (the thick-film alternative of the study)
+        "AutoSwitchDoubleBandsUm": significant(float(bo.point_sampling_limit_nm(2 * bands))
+                                               / tracer.pack.AUTO_FRINGE_BANDS / 1000, 2),
+        "DoubleBands": str(2 * bands),
     }
 
 
 DEFAULTS_MACROS = ["DefaultBands", "DefaultThreshold", "DefaultDepth", "DefaultMethod", "DefaultAliasLimitUm",
+                   "AutoSwitchDoubleBandsUm", "DoubleBands",
                    "AutoSwitchUm", "AutoFringeBands"]
 
 def constants(dirs):
