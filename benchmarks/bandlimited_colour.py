@@ -68,13 +68,14 @@ falls on table nodes, the table's series equals the direct 1 nm integration of
 against the water reference under E, the like-for-like companion of the two ``_vs_dispersive``
 rows.
 
-Times: wall time per colour (XYZ only, after a warm-up call), median and minimum of the repeats,
+Times: wall time per colour (XYZ only, after a warm-up call), median, minimum and maximum of the repeats,
 numba kernels on all of this machine's cores; the Gaussian fit and the lookup table are plain
 NumPy (vectorized; the tables' construction, about a second, is not included) and are timed for
 completeness only.
 """
 
 import argparse
+import os
 import time
 from pathlib import Path
 
@@ -98,18 +99,25 @@ OUT = ROOT / "data" / "derived" / "bandlimited_colour.csv"
 
 
 def timed(func, repeats):
-    """(median, minimum) wall time of *repeats* calls after one untimed warm-up call.
+    """(median, minimum, maximum) wall time of *repeats* calls after one untimed warm-up call.
 
-    The minimum is the one to compare on a shared machine (the others' load only adds time).
+    The minimum is the one to compare on a shared machine (the others' load only adds time); the
+    maximum shows how much the others disturbed the runs.
     """
     times = wall_times(func, repeats)
-    return float(np.median(times)), float(np.min(times))
+    return float(np.median(times)), float(np.min(times)), float(np.max(times))
+
+
+def _load():
+    """The 1-minute load average (other work on a shared machine)."""
+    with open("/proc/loadavg") as f:
+        return float(f.read().split()[0])
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--thicknesses", type=int, default=4001, help="thickness samples over 0-20 um")
-    parser.add_argument("--repeats", type=int, default=5, help="timed runs (median)")
+    parser.add_argument("--repeats", type=int, default=9, help="timed runs (median, min, max)")
     parser.add_argument("--quick", action="store_true", help="401 thicknesses, 2 repeats (smoke test)")
     parser.add_argument("--out", type=Path, default=OUT)
     args = parser.parse_args(argv)
@@ -120,6 +128,7 @@ def main(argv=None):
     from bubbleoptics.bandlimited import film_XYZ_bandlimited
     from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM as WL
 
+    load_before = _load()
     d = np.linspace(0.0, 20000.0, args.thicknesses)
     thin = d <= 2000.0  # the first interference orders, where the colours are saturated
     rows = []
@@ -135,7 +144,7 @@ def main(argv=None):
                 delta_e00_XYZ(XYZ, ref["XYZ"], ill, exposure=ref["exposure"]))
 
     def record(method, n_bands, order, ill, theta_deg, XYZ, ref, seconds, note=""):
-        t_med, t_min = seconds
+        t_med, t_min, t_max = seconds
         e, e_exp = dE00(XYZ, ref, ill)
         rows.append(
             dict(
@@ -152,6 +161,7 @@ def main(argv=None):
                 dE00_max_0_2um=float(e[thin].max()),
                 ns_per_colour=1e9 * t_med / d.size,
                 ns_per_colour_min=1e9 * t_min / d.size,
+                ns_per_colour_max=1e9 * t_max / d.size,
                 note=note,
                 exposure=float(ref["exposure"]),
                 dE00_max_exposed=float(e_exp.max()),
@@ -236,9 +246,9 @@ def main(argv=None):
                "n=1.33 against the water reference")
         wl, Wb = bo.band_spectral_weights(16, illuminant=None)
         pt = bo.film_reflectance(wl, d[:, None], th, n_const) @ Wb.T
-        record("point", 16, "", "E", theta_deg, pt, ref_const, (float("nan"), float("nan")), "n=1.33")
+        record("point", 16, "", "E", theta_deg, pt, ref_const, (float("nan"),) * 3, "n=1.33")
         ours = film_XYZ_bandlimited(d, th, 16, n_film=n_const, illuminant=None, order=3)
-        record("bandlimited", 16, 3, "E", theta_deg, ours, ref_const, (float("nan"), float("nan")), "n=1.33")
+        record("bandlimited", 16, 3, "E", theta_deg, ours, ref_const, (float("nan"),) * 3, "n=1.33")
         lut = lut_film_XYZ(d, th, n_const, table)
         t = timed(lambda: lut_film_XYZ(d, th, n_const, table), args.repeats)
         record("lut_nondispersive", "", "", "E", theta_deg, lut, ref_const, t, lut_note)
@@ -272,6 +282,8 @@ def main(argv=None):
 
     write_csv(args.out, rows,
               provenance("benchmarks/bandlimited_colour.py", f"{d.size} thicknesses 0-20000 nm",
+                         f"{args.repeats} timed runs a method (median, min, max); load average {load_before:.2f} "
+                         f"before, {_load():.2f} after (shared machine; this process at niceness {os.nice(0)})",
                          "regenerate with: python benchmarks/bandlimited_colour.py"),
               float_format="{:.4g}")
     print(f"wrote {args.out}")

@@ -535,10 +535,20 @@ def bandlimited(dirs):
     out["BlNsSixteen"] = significant(ns(("bandlimited", 16, order)), 2)
     out["BlNsPointSixteen"] = significant(ns(("point", 16)), 2)
     out["BlNsReference"] = significant(ns(("reference_1nm", 421)), 2)
+    # the spread of the timed runs: fastest and slowest run over both angles
+    for key, r in (("Sixteen", ("bandlimited", 16, order)), ("PointSixteen", ("point", 16)),
+                   ("Reference", ("reference_1nm", 421))):
+        runs = [row(*r[:1], t, *r[1:]) for t in ANGLE_WORDS]
+        out[f"BlNs{key}Min"] = significant(min(x["ns_per_colour_min"] for x in runs), 2)
+        out[f"BlNs{key}Max"] = significant(max(x["ns_per_colour_max"] for x in runs), 2)
+    m = re.search(r"(\d+) timed runs a method", " ".join(notes))
+    out["BlTimedRuns"] = m.group(1) if m else NA
     return out
 
 
 BANDLIMITED_MACROS = ["BlThicknesses", "BlMaxThicknessUm", "BlOrder", "BlNsSixteen", "BlNsPointSixteen",
+                      "BlNsSixteenMin", "BlNsSixteenMax", "BlNsPointSixteenMin", "BlNsPointSixteenMax",
+                      "BlNsReferenceMin", "BlNsReferenceMax", "BlTimedRuns",
                       "BlNsReference", "BlThinMaxUm", "ConstIndex", "NearIndexNm", "BlSixteenMaxWorst",
                       "BlPointSixteenMaxWorst", "BlExposedGainMin",
                       "BlExposedGainMax"] + [
