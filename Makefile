@@ -52,6 +52,10 @@ bench: $(STAMP)
 	$(PY) benchmarks/time_vs_error.py
 	$(PY) benchmarks/throughput.py
 	$(PY) benchmarks/editor_latency.py
+	$(PY) benchmarks/mesh_scale.py
+	$(PY) benchmarks/output_memory.py
+	$(PY) benchmarks/movie.py
+	$(PY) benchmarks/film_flow.py
 	$(PY) benchmarks/peer_mitsuba.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
