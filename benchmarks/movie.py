@@ -29,7 +29,8 @@ estimate a 3840x2160, 64-spp, one-minute movie (1440 frames at 24 fps) on 8, 64 
 one-core workers. The model assumes: the cost of a frame scales with its pixels times its
 samples (camera rays dominate; the scene and the depth are the same), workers are as fast as
 this machine's cores and each renders whole frames (so at most 1440 workers are used, and
-with 512 workers the last of ceil(1440 / 512) = 3 rounds leaves a third of them idle), the
+with 512 workers the last of ceil(1440 / 512) = 3 rounds renders 416 frames and leaves 96
+workers, 19 %, idle), the
 overhead a frame stays what it is here (transfer of a 4K PNG of about 10-25 MB is not in it:
 a fast network adds about 0.1-0.2 s a frame), and the encoder runs once, at the end, on one
 machine, at the speed measured here scaled by pixels.
