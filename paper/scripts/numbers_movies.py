@@ -29,6 +29,12 @@ def _benchmark():
     return module
 
 
+def _tiles_per_worker():
+    from tracer.cluster import TILES_PER_WORKER
+
+    return TILES_PER_WORKER
+
+
 def model_seconds(workers, frame_cpu_s, overhead_s, startup_s, encode_s, measured_pixels, model):
     """Wall seconds of the benchmark's model movie on *workers* one-core workers: rounds of whole
     frames (each the measured one-thread CPU time a frame scaled by pixels x samples, plus the
@@ -81,6 +87,7 @@ def movies(dirs):
         "MovieImageTilesMin": significant(f(tiles, "seconds_min"), 2),
         "MovieImageTilesMax": significant(f(tiles, "seconds_max"), 2),
         "MovieTileSpp": str(bench.TILE_IMAGE["spp"]),
+        "MovieTilesPerWorker": str(_tiles_per_worker()),
     }
     load = re.search(r"load average ([0-9.]+) before, ([0-9.]+) after", notes[0])
     if load:
@@ -106,6 +113,9 @@ def movies(dirs):
         out[f"MovieModelRounds{word}"] = str(rounds)
         out[f"MovieModelWorkers{word}"] = str(w)
         if w == MODEL_WORKERS[-1]:
+            idle = rounds * w - model["frames"]  # workers without a frame in the last round
+            out["MovieModelIdleLast"] = str(idle)
+            out["MovieModelIdlePercent"] = significant(100 * idle / w, 2)
             out["MovieModelEncodeShare"] = significant(100 * encode_per_frame * model["width"] * model["height"]
                                                        / (size * size) * model["frames"] / seconds, 2)
         if w == MODEL_WORKERS[0]:
@@ -120,7 +130,8 @@ MOVIE_MACROS = (["MovieDate", "MovieMachine", "MovieFrames", "MovieSize", "Movie
                  "MovieTileHeight", "MovieImageHereS", "MovieImageHereMin", "MovieImageHereMax", "MovieImageTilesS",
                  "MovieImageTilesMin", "MovieImageTilesMax", "MovieTileSpp", "MovieLoadBefore", "MovieLoadAfter",
                  "MovieRepeats", "MovieModelWidth", "MovieModelHeight", "MovieModelSpp", "MovieModelFrames",
-                 "MovieModelMinutes", "MovieModelEncodeShare", "MovieModelFrameMin"]
+                 "MovieModelMinutes", "MovieModelEncodeShare", "MovieModelFrameMin",
+                 "MovieModelIdleLast", "MovieModelIdlePercent", "MovieTilesPerWorker"]
                 + [f"MovieModel{k}{_WORDS[w]}" for w in MODEL_WORKERS
                    for k in ("Hours", "Efficiency", "Rounds", "Workers")])
 
