@@ -53,10 +53,12 @@ def validation(dirs):
         out[f"Ff{prefix}OrderMin"] = significant(min(orders), 2, 2) if min(orders) < 10 else significant(min(orders))
         out[f"Ff{prefix}OrderMax"] = significant(max(orders), 2, 2) if max(orders) < 10 else significant(max(orders))
         out[f"Ff{prefix}OrderLast"] = significant(orders[-1], 2, 2)
+        lo, hi = out[f"Ff{prefix}OrderMin"], out[f"Ff{prefix}OrderMax"]
+        out[f"Ff{prefix}Orders"] = lo if lo == hi else f"{lo}--{hi}"  # one value when they round alike
     out["FfTransientCoarseGrid"] = _grid_tex(f"{min(tr)}x{2 * min(tr)}")
     out["FfTransientFineGrid"] = _grid_tex(f"{max(tr) * 2}x{max(tr) * 4}")
     out["FfApexErrSixtyFour"] = scientific(apex[64], 2)
-    out["FfTauS"] = significant(_value(rows, "apex", "drainage_time"), 3)
+    out["FfTauS"] = significant(_value(rows, "apex", "drainage_time"), 4)
     for name, key in (("FfConsRigidVolume", "rigid_volume_per_step"), ("FfConsPlugVolume", "plug_volume_per_step"),
                       ("FfConsPlugSurfactant", "plug_surfactant_per_step"), ("FfEvapRigid", "rigid_evaporated"),
                       ("FfEvapPlug", "plug_evaporated")):
@@ -96,7 +98,7 @@ def validation(dirs):
 
 VALIDATION_MACROS = ["FfValidDate", "FfValidMachine", "FfValidLoadStart", "FfValidLoadEnd"] + [
     f"Ff{p}{s}" for p in ("Apex", "Profile", "Eq", "Transient")
-    for s in ("RowsMin", "RowsMax", "ErrCoarse", "ErrFine", "OrderMin", "OrderMax", "OrderLast")] + [
+    for s in ("RowsMin", "RowsMax", "ErrCoarse", "ErrFine", "OrderMin", "OrderMax", "OrderLast", "Orders")] + [
     "FfTransientCoarseGrid", "FfTransientFineGrid", "FfApexErrSixtyFour", "FfTauS", "FfConsRigidVolume",
     "FfConsPlugVolume", "FfConsPlugSurfactant", "FfEvapRigid", "FfEvapPlug", "FfConsPlugGrid", "FfBlackGrid",
     "FfBlackDtMs", "FfBlackNm", "FfBlackApexS", "FfBlackFirstS", "FfBlackAllS", "FfUniformS", "FfEqApexS",
