@@ -1,0 +1,102 @@
+"""Figure: the film-flow simulation validated, and a film turning black on a rendered bubble.
+
+Run:  python paper/scripts/fig_film_flow.py [--quick]
+Reads ``data/derived/film_flow_validation.csv`` and ``.npz`` (both written by
+``benchmarks/film_flow_validation.py``); writes ``fig_film_flow.pdf``/``.png`` (page wide).
+
+(a) Rigid drainage: the apex (top cell row) against the law h0 (1 + t/τ)^(-1/2), steps of τ/20.
+(b) Convergence under grid refinement: the largest errors of the four checks against the number
+    of rows, with slopes 1 and 2 for reference.
+(c) Plug flow with the cited defaults: the apex, the thinnest and the thickest cell against time,
+    the black-film threshold, and the two estimates h0/E and h_eq(0)/E.
+(d) The rendered frames stored by the benchmark (8-bit sRGB), at the film times printed above them.
+Quick mode draws the same figure (it only reads stored data).
+"""
+
+import sys
+
+import numpy as np
+
+import paths
+import style
+from bubbleoptics.study import read_commented_csv
+
+CSV = paths.DERIVED / "film_flow_validation.csv"
+NPZ = paths.DERIVED / "film_flow_validation.npz"
+CHECKS = {  # check, quantity -> label, marker
+    ("apex", "max_relative_error"): ("rigid: apex vs law", "o"),
+    ("profile", "max_abs_error_h_over_h0"): ("rigid: profile vs characteristics", "s"),
+    ("equilibrium", "max_relative_error"): ("plug: equilibrium", "^"),
+    ("transient", "max_abs_difference_h_over_h0"): ("plug: transient vs finer grid", "D"),
+}
+
+
+def main(argv=None):
+    paths.parse_args(__doc__.splitlines()[0], argv)
+    _, rows = read_commented_csv(CSV)
+    data = np.load(NPZ)
+    value = {(r["check"], r["quantity"]): float(r["value"]) for r in rows if r["check"] == "black"}
+
+    fig = style.figure(width=style.PAGE_WIDTH, height=4.3)
+    top, bottom = fig.subfigures(2, 1, height_ratios=(1.25, 1.0))
+    ax_a, ax_b, ax_c = top.subplots(1, 3)
+
+    t, apex, law = data["apex_t_over_tau"][1:], data["apex_nm"][1:], data["apex_law_nm"][1:]
+    ax_a.loglog(t, law, "k-", linewidth=0.8, label=r"$h_0(1+t/\tau)^{-1/2}$")
+    shown = np.unique(np.geomspace(1, len(t), 40).astype(int) - 1)  # evenly spaced on the log axis
+    ax_a.loglog(t[shown], apex[shown], "o", markersize=2.5, markerfacecolor="none", markeredgewidth=0.6,
+                label=f"simulated, {int(data['apex_rows'])} rows")
+    ax_a.axvspan(1, 10, color="0.92", zorder=0)
+    ax_a.set_xlabel(r"$t/\tau$")
+    ax_a.set_ylabel("apex thickness (nm)")
+    ax_a.legend(loc="lower left")
+    ax_a.set_title("(a) rigid drainage", loc="left")
+
+    for (check, quantity), (label, marker) in CHECKS.items():
+        pts = sorted((int(r["grid"].split("x")[0]), float(r["value"])) for r in rows
+                     if r["check"] == check and r["quantity"] == quantity)
+        n, e = np.array(pts).T
+        ax_b.loglog(n, e, marker=marker, markersize=3, linewidth=0.8, label=label)
+    n_ref = np.array([16.0, 256.0])
+    ax_b.loglog(n_ref, 3e-2 * (n_ref / 16) ** -1, ":", color="0.5", linewidth=0.8)
+    ax_b.loglog(n_ref, 2e-3 * (n_ref / 16) ** -2, "--", color="0.5", linewidth=0.8)
+    ax_b.text(256, 3e-2 / 16 * 1.25, "slope 1", color="0.4", ha="right", va="bottom")
+    ax_b.text(256, 2e-3 / 256 * 1.25, "slope 2", color="0.4", ha="right", va="bottom")
+    ax_b.set_ylim(1e-7, 0.1)
+    ax_b.set_xlabel(r"rows $n_\theta$")
+    ax_b.set_ylabel("largest error")
+    ax_b.set_xticks([16, 32, 64, 128, 256], ["16", "32", "64", "128", "256"])
+    ax_b.minorticks_off()
+    ax_b.legend(loc="lower left", handlelength=1.5)
+    ax_b.set_title("(b) convergence", loc="left")
+
+    tb = data["black_times"]
+    ax_c.plot(tb, data["black_max_nm"], color="0.6", linewidth=0.8, label="thickest cell")
+    ax_c.plot(tb, data["black_apex_nm"], linewidth=1.0, label="apex (top row)")
+    ax_c.plot(tb, data["black_min_nm"], linewidth=0.8, label="thinnest cell")
+    black_nm = value[("black", "threshold")]
+    ax_c.axhline(black_nm, color="k", linewidth=0.6, linestyle=":")
+    ax_c.axvline(value[("black", "t_uniform")], color="0.4", linewidth=0.7, linestyle="-.", label="$h_0/E$")
+    ax_c.axvline(value[("black", "t_equilibrium_apex")], color="0.4", linewidth=0.7, linestyle="--",
+                 label=r"$h_{eq}(0)/E$")
+    ax_c.set_xlabel("film time (s)")
+    ax_c.set_ylabel("thickness (nm)")
+    ax_c.set_xlim(0, tb[-1])
+    ax_c.set_ylim(0, None)
+    ax_c.legend(loc="upper right")
+    ax_c.set_title("(c) plug flow, evaporating", loc="left")
+
+    frames, times = data["frames"], data["frame_times"]
+    axes = bottom.subplots(1, len(frames))
+    for k, (ax, img, tf) in enumerate(zip(axes, frames, times)):
+        ax.imshow(img, interpolation="lanczos")
+        ax.set_axis_off()
+        label = f"t = {tf:.0f} s"
+        ax.set_title(("(d) " if k == 0 else "") + label, loc="left" if k == 0 else "center")
+    for path in style.savefig(fig, "fig_film_flow"):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

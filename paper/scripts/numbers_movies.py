@@ -1,0 +1,153 @@
+"""The numbers of the movies chapter (paper/sections/movies.tex), a plug-in of make_numbers.py.
+
+* ``movies``: ``data/derived/movie.csv`` (``benchmarks/movie.py``): serial against a Dask
+  LocalCluster, Dask's overhead a frame, the encoder's share, one large image here and as row
+  tiles, and the scaling model.  The model (a 3840x2160, 64-spp, one-minute movie on 8, 64 and
+  512 one-core workers; assumptions in ``benchmarks/movie.py``'s docstring) is evaluated here
+  again from the measured rows and the model's constants (``MODEL``, ``WORKERS`` of
+  ``benchmarks/movie.py``, imported), and checked against the benchmark's own model rows: a
+  difference of more than 1 % makes the section n/a.
+* ``moviefiles``: the example commands files in ``data/movies/`` (frames and what they do).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import re
+
+from make_numbers import ROOT, _date, _machine, read_commented_csv, significant
+
+MODEL_WORKERS = (8, 64, 512)
+_WORDS = {8: "Eight", 64: "SixtyFour", 512: "FiveTwelve"}
+
+
+def _benchmark():
+    spec = importlib.util.spec_from_file_location("benchmark_movie", ROOT / "benchmarks" / "movie.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _tiles_per_worker():
+    from tracer.cluster import TILES_PER_WORKER
+
+    return TILES_PER_WORKER
+
+
+def model_seconds(workers, frame_cpu_s, overhead_s, startup_s, encode_s, measured_pixels, model):
+    """Wall seconds of the benchmark's model movie on *workers* one-core workers: rounds of whole
+    frames (each the measured one-thread CPU time a frame scaled by pixels x samples, plus the
+    measured overhead a frame), the cluster's start-up, and the encoder once (its measured time a
+    frame scaled by pixels).  *encode_s*: the encoder's seconds for the measured movie of
+    *measured_pixels*-pixel frames, per frame."""
+    scale = model["width"] * model["height"] * model["spp"] / measured_pixels
+    frame = frame_cpu_s * scale
+    encode = encode_s * model["width"] * model["height"] / measured_pixels * model["frames"]
+    rounds = math.ceil(model["frames"] / workers)
+    return rounds * (frame + overhead_s) + startup_s + encode, frame, rounds
+
+
+def movies(dirs):
+    notes, rows = read_commented_csv(dirs["derived"] / "movie.csv")
+    bench = _benchmark()
+    by_case = {}
+    for r in rows:
+        by_case.setdefault(r["case"], []).append(r)
+    (serial,), (dask,) = by_case["serial"], by_case["dask"]
+    (here,), (tiles,) = by_case["image here"], by_case["image tiles"]
+    f = lambda r, k: float(r[k])  # noqa: E731
+    frames = int(f(dask, "frames"))
+    size = int(f(dask, "width"))
+    out = {
+        "MovieDate": _date(notes), "MovieMachine": _machine(notes),
+        "MovieFrames": str(frames), "MovieSize": str(size), "MovieWorkers": str(int(f(dask, "workers"))),
+        "MovieSerialS": significant(f(serial, "seconds_median"), 2),
+        "MovieSerialMin": significant(f(serial, "seconds_min"), 2),
+        "MovieSerialMax": significant(f(serial, "seconds_max"), 2),
+        "MovieDaskS": significant(f(dask, "seconds_median"), 2),
+        "MovieDaskMin": significant(f(dask, "seconds_min"), 2),
+        "MovieDaskMax": significant(f(dask, "seconds_max"), 2),
+        "MovieSerialFps": significant(f(serial, "frames_per_second"), 2),
+        "MovieDaskFps": significant(f(dask, "frames_per_second"), 2),
+        "MovieEncodeShare": significant(100 * f(serial, "encode_share"), 2),
+        "MovieFrameCpuS": significant(f(dask, "frame_cpu_seconds"), 2),
+        "MovieFrameComputeS": significant(f(dask, "frame_compute_seconds"), 2),
+        "MovieOverheadMs": significant(1e3 * f(dask, "overhead_per_frame_seconds"), 2),
+        "MovieOverheadMinMs": significant(1e3 * f(dask, "overhead_min"), 2),
+        "MovieOverheadMaxMs": significant(1e3 * f(dask, "overhead_max"), 2),
+        "MovieOverheadPercent": significant(100 * f(dask, "overhead_fraction"), 2),
+        "MovieStartupS": significant(f(dask, "cluster_startup_seconds"), 2),
+        "MovieFirstFrameS": significant(f(dask, "first_frame_seconds"), 2),
+        "MovieTileWidth": str(int(f(here, "width"))), "MovieTileHeight": str(int(f(here, "height"))),
+        "MovieImageHereS": significant(f(here, "seconds_median"), 2),
+        "MovieImageHereMin": significant(f(here, "seconds_min"), 2),
+        "MovieImageHereMax": significant(f(here, "seconds_max"), 2),
+        "MovieImageTilesS": significant(f(tiles, "seconds_median"), 2),
+        "MovieImageTilesMin": significant(f(tiles, "seconds_min"), 2),
+        "MovieImageTilesMax": significant(f(tiles, "seconds_max"), 2),
+        "MovieTileSpp": str(bench.TILE_IMAGE["spp"]),
+        "MovieTilesPerWorker": str(_tiles_per_worker()),
+    }
+    load = re.search(r"load average ([0-9.]+) before, ([0-9.]+) after", notes[0])
+    if load:
+        out["MovieLoadBefore"], out["MovieLoadAfter"] = load.group(1), load.group(2)
+    reps = re.search(r"(\d+) repeats", notes[0])
+    if reps:
+        out["MovieRepeats"] = reps.group(1)
+    # the model, again, from the measured rows
+    model = bench.MODEL
+    out.update(MovieModelWidth=str(model["width"]), MovieModelHeight=str(model["height"]),
+               MovieModelSpp=str(model["spp"]), MovieModelFrames=str(model["frames"]),
+               MovieModelMinutes=format(model["frames"] / 24 / 60, "g"))
+    stored = {int(f(r, "workers")): r for r in rows if r["case"].startswith("model ")}
+    encode_per_frame = f(dask, "encode_seconds_median") / frames
+    for w in MODEL_WORKERS:
+        seconds, frame, rounds = model_seconds(w, f(dask, "frame_cpu_seconds"), f(dask, "overhead_per_frame_seconds"),
+                                               f(dask, "cluster_startup_seconds"), encode_per_frame, size * size, model)
+        if abs(seconds / f(stored[w], "seconds_median") - 1) > 0.01:
+            raise ValueError(f"the model for {w} workers gives {seconds:.4g} s, the CSV {stored[w]['seconds_median']}")
+        word = _WORDS[w]
+        out[f"MovieModelHours{word}"] = significant(seconds / 3600, 2)
+        out[f"MovieModelEfficiency{word}"] = significant(100 * model["frames"] * frame / (w * seconds), 2)
+        out[f"MovieModelRounds{word}"] = str(rounds)
+        out[f"MovieModelWorkers{word}"] = str(w)
+        if w == MODEL_WORKERS[-1]:
+            idle = rounds * w - model["frames"]  # workers without a frame in the last round
+            out["MovieModelIdleLast"] = str(idle)
+            out["MovieModelIdlePercent"] = significant(100 * idle / w, 2)
+            out["MovieModelEncodeShare"] = significant(100 * encode_per_frame * model["width"] * model["height"]
+                                                       / (size * size) * model["frames"] / seconds, 2)
+        if w == MODEL_WORKERS[0]:
+            out["MovieModelFrameMin"] = significant(frame / 60, 2)
+    return out
+
+
+MOVIE_MACROS = (["MovieDate", "MovieMachine", "MovieFrames", "MovieSize", "MovieWorkers", "MovieSerialS", "MovieSerialMin",
+                 "MovieSerialMax", "MovieDaskS", "MovieDaskMin", "MovieDaskMax", "MovieSerialFps", "MovieDaskFps",
+                 "MovieEncodeShare", "MovieFrameCpuS", "MovieFrameComputeS", "MovieOverheadMs", "MovieOverheadMinMs",
+                 "MovieOverheadMaxMs", "MovieOverheadPercent", "MovieStartupS", "MovieFirstFrameS", "MovieTileWidth",
+                 "MovieTileHeight", "MovieImageHereS", "MovieImageHereMin", "MovieImageHereMax", "MovieImageTilesS",
+                 "MovieImageTilesMin", "MovieImageTilesMax", "MovieTileSpp", "MovieLoadBefore", "MovieLoadAfter",
+                 "MovieRepeats", "MovieModelWidth", "MovieModelHeight", "MovieModelSpp", "MovieModelFrames",
+                 "MovieModelMinutes", "MovieModelEncodeShare", "MovieModelFrameMin",
+                 "MovieModelIdleLast", "MovieModelIdlePercent", "MovieTilesPerWorker"]
+                + [f"MovieModel{k}{_WORDS[w]}" for w in MODEL_WORKERS
+                   for k in ("Hours", "Efficiency", "Rounds", "Workers")])
+
+
+def movie_files(dirs):
+    """The orbit example: its frames and degrees (``render K``, ``camera orbit D``)."""
+    text = (dirs["data"] / "movies" / "builtin_orbit.txt").read_text(encoding="utf-8")
+    body = "\n".join(line.split("#", 1)[0] for line in text.splitlines())
+    renders = [int(x) for x in re.findall(r"^\s*render\s+(\d+)", body, flags=re.M)]
+    orbit = re.findall(r"^\s*camera\s+orbit\s+([-0-9.eE]+)", body, flags=re.M)
+    if not renders or len(orbit) != 1:
+        raise ValueError("builtin_orbit.txt: expected renders and one camera orbit")
+    return {"OrbitFrames": str(sum(renders)), "OrbitDegrees": format(float(orbit[0]), "g")}
+
+
+SECTIONS = {
+    "movies": (["derived/movie.csv", "benchmarks/movie.py"], movies, MOVIE_MACROS),
+    "moviefiles": (["data/movies/builtin_orbit.txt"], movie_files, ["OrbitFrames", "OrbitDegrees"]),
+}
