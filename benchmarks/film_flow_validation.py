@@ -5,8 +5,9 @@ Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) a
 ``data/derived/film_flow_validation.npz`` (the apex curve, the thickness against time of the
 black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film_flow.py``).
 
-The checks are those of ``tests/test_film_flow.py``, computed by the same helpers (imported from
-that module: ``_equilibrium_error``, ``_characteristics_profile``, ``_coarsen``), on more grids:
+The checks are those of ``tests/test_film_flow.py``, computed by the same helpers (both import
+them from :mod:`bubbleoptics.study.film_flow`: ``plug_equilibrium_error``,
+``rigid_characteristics_profile``, ``coarsen_cells``), on more grids:
 
 * ``apex``: rigid drainage from a uniform film, steps of τ/20 to 10τ; the largest relative error
   of the top cell row against :math:`h_0(1 + t/\\tau)^{-1/2}` for t in [τ, 10τ], on 16-128 rows;
@@ -44,20 +45,17 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))  # the tests' own helpers (test_film_flow imports filmflow_reference)
 
-import test_film_flow as checks  # noqa: E402
-
-from bubbleoptics.filmflow import FilmGrid, FilmParameters, PlugFlow, RigidDrainage  # noqa: E402
-from bubbleoptics.study import film_flow as ff  # noqa: E402
-from bubbleoptics.study import provenance, write_csv  # noqa: E402
+from bubbleoptics.filmflow import FilmGrid, FilmParameters, PlugFlow, RigidDrainage
+from bubbleoptics.study import film_flow as ff
+from bubbleoptics.study import provenance, write_csv
+from bubbleoptics.study.film_flow import STILL, coarsen_cells, plug_equilibrium_error, rigid_characteristics_profile
 
 OUT = ROOT / "data" / "derived" / "film_flow_validation.csv"
 BLACK_NM = 30.0  # "black film": thinner than this (issue 11, as notebook 07)
 BLACK_GRID, BLACK_DT = (128, 256), 0.01
 FRAME_SIZE = 200
 FRAME_OFFSETS = (-16.0, -8.0, 0.0, 4.0)  # s, around the apex's black-film time
-STILL = checks.STILL
 
 
 def _orders(errors):
@@ -83,7 +81,7 @@ def apex_errors(rows_list):
 
 def profile_errors(rows_list):
     p = FilmParameters(**STILL)
-    theta_end, h_end = checks._characteristics_profile(1.0)
+    theta_end, h_end = rigid_characteristics_profile(1.0)
     out = {}
     for n in rows_list:
         g = FilmGrid(n, 4, p.radius)
@@ -95,7 +93,7 @@ def profile_errors(rows_list):
 
 
 def equilibrium_errors(rows_list):
-    return {n: float(checks._equilibrium_error(n)[0]) for n in rows_list}
+    return {n: float(plug_equilibrium_error(n)[0]) for n in rows_list}
 
 
 def transient_differences(rows_list):
@@ -108,7 +106,7 @@ def transient_differences(rows_list):
         for _ in range(20):
             s = m.step(s, 0.0025)
         fields[n] = (g, s.h)
-    return {n: float(np.abs(fields[n][1] - checks._coarsen(*fields[2 * n])).max() / p.h0) for n in rows_list[:-1]}
+    return {n: float(np.abs(fields[n][1] - coarsen_cells(*fields[2 * n])).max() / p.h0) for n in rows_list[:-1]}
 
 
 def conservation(quick):

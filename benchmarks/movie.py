@@ -36,7 +36,6 @@ a fast network adds about 0.1-0.2 s a frame), and the encoder runs once, at the 
 machine, at the speed measured here scaled by pixels.
 """
 
-import math
 import statistics
 import sys
 import tempfile
@@ -49,7 +48,6 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "movie.csv"
 COMMANDS = ROOT / "data" / "movies" / "builtin_orbit.txt"
 WORKERS = 2
-MODEL = dict(width=3840, height=2160, spp=64, frames=24 * 60)
 TILE_IMAGE = dict(width=1920, height=1080, spp=4)
 
 
@@ -176,19 +174,21 @@ def main(argv=None):
         client.close()
         cluster.close()
 
-    # the model: a 4K, 64-spp, one-minute movie
-    scale = MODEL["width"] * MODEL["height"] * MODEL["spp"] / (size * size)
-    frame = statistics.median(cpu) * scale  # CPU time: what a core of its own would take
-    encode_per_frame = statistics.median(enc) / n_frames * MODEL["width"] * MODEL["height"] / (size * size)
+    # the model: a 4K, 64-spp, one-minute movie (tracer.cluster.model_movie_seconds)
+    from tracer.cluster import MODEL_MOVIE as MODEL
+    from tracer.cluster import model_movie_seconds
+
+    encode_per_frame = statistics.median(enc) / n_frames  # of the measured movie
     for w in (8, 64, 512):
-        rounds = math.ceil(MODEL["frames"] / w)
-        seconds = rounds * (frame + o_med) + startup + encode_per_frame * MODEL["frames"]
+        seconds, frame, rounds = model_movie_seconds(w, statistics.median(cpu), o_med, startup, encode_per_frame,
+                                                     size * size)
+        encode_model = seconds - rounds * (frame + o_med) - startup
         rows.append(dict(case="model 3840x2160 64spp 1440 frames", workers=w, threads=1, frames=MODEL["frames"],
                          width=MODEL["width"], height=MODEL["height"], frame_compute_seconds=frame,
                          overhead_per_frame_seconds=o_med, overhead_fraction=o_med / frame,
                          seconds_median=seconds, frames_per_second=MODEL["frames"] / seconds,
-                         encode_seconds_median=encode_per_frame * MODEL["frames"],
-                         encode_share=encode_per_frame * MODEL["frames"] / seconds,
+                         encode_seconds_median=encode_model,
+                         encode_share=encode_model / seconds,
                          efficiency=MODEL["frames"] * frame / (w * seconds)))
         print(f"model, {w} workers: {seconds / 3600:.2f} h ({rounds} rounds of {frame:.0f} s)", file=sys.stderr)
 

@@ -10,25 +10,11 @@ from bubbleoptics.filmflow.parameters import GAS_CONSTANT
 
 import filmflow_reference as ref  # tests/filmflow_reference.py
 
-STILL = dict(perturbation=0.0, evaporation=0.0)
-
-
-def _a_one(**changes):
-    """Parameters whose plug-flow equilibrium exponent is a = 1 (Γ0 = ρ g R h0 / (2 R_g T))."""
-    p = FilmParameters(**changes)
-    return p.replace(surfactant=p.density * p.gravity * p.radius * p.h0 / (2 * GAS_CONSTANT * p.temperature))
-
-
-def _equilibrium_error(n_theta, steps=600, dt=0.005):
-    p = _a_one(**STILL)
-    g = FilmGrid(n_theta, 4, p.radius)
-    m = PlugFlow(p, g)
-    s = m.initial_state(0)
-    for _ in range(steps):
-        s = m.step(s, dt)
-    a = p.equilibrium_exponent
-    exact = p.h0 * a / math.sinh(a) * np.exp(-a * np.cos(g.theta))
-    return np.abs(s.h / exact[:, None] - 1).max(), s, exact
+from bubbleoptics.study.film_flow import STILL
+from bubbleoptics.study.film_flow import coarsen_cells as _coarsen
+from bubbleoptics.study.film_flow import plug_equilibrium_error as _equilibrium_error
+from bubbleoptics.study.film_flow import rigid_characteristics_profile as _characteristics_profile
+from bubbleoptics.study.film_flow import unit_exponent_parameters as _a_one
 
 
 # ---------------------------------------------------------------- rigid drainage
@@ -52,18 +38,6 @@ def test_rigid_apex_follows_the_inverse_square_root_law_over_a_decade():
     c = (1 + math.cos(g.d_theta)) / 2
     assert np.abs(apex / (p.h0 * (1 + c * t[late] / tau) ** -0.5)[:, None] - 1).max() < 1e-5  # float32 storage
     assert err > 1e-5  # and the 1 % above is the grid's O(dθ²), not a tautology
-
-
-def _characteristics_profile(s_end):
-    """h/h0 against θ at t = s_end τ for a uniform start, from the characteristics of the PDE
-    (dθ/ds = (3/4) H² sin θ, dH/ds = -(1/2) H³ cos θ, s = t/τ), integrated by scipy."""
-    from scipy.integrate import solve_ivp
-
-    def rhs(_, y):
-        return [0.75 * y[1] ** 2 * math.sin(y[0]), -0.5 * y[1] ** 3 * math.cos(y[0])]
-
-    ends = [solve_ivp(rhs, (0, s_end), [t0, 1.0], rtol=1e-11, atol=1e-13).y[:, -1] for t0 in np.linspace(0, 2, 201)]
-    return np.array(ends).T
 
 
 @pytest.mark.analytic
@@ -150,13 +124,6 @@ def test_plug_flow_equilibrium_converges_at_second_order():
     e = [_equilibrium_error(n)[0] for n in (16, 32, 64)]
     orders = [math.log2(e[i] / e[i + 1]) for i in range(2)]
     assert all(1.9 < o < 2.1 for o in orders), (e, orders)
-
-
-def _coarsen(grid, h):
-    """Area-weighted means of 2 x 2 blocks of cells: the field on the grid half as fine."""
-    coarse = FilmGrid(grid.n_theta // 2, grid.n_phi // 2, grid.radius)
-    volume = (grid.area[:, None] * h).reshape(coarse.n_theta, 2, coarse.n_phi, 2).sum(axis=(1, 3))
-    return volume / coarse.area[:, None]
 
 
 @pytest.mark.property

@@ -4,7 +4,7 @@ The prose of ``paper/sections/{film_flow,movies,editor}.tex`` states some compar
 ("converges at second order", "two estimates bracket the apex", "misses its target"); these tests
 check them against the committed CSVs, so that regenerated data that contradicts the words fails
 here rather than printing a wrong sentence.  The scaling model of the movies chapter is evaluated
-by ``paper/scripts/numbers_movies.py`` and checked against the benchmark's own rows.  Reading CSVs
+by :func:`tracer.cluster.model_movie_seconds`, checked against a literal evaluation and the benchmark's own rows.  Reading CSVs
 only: milliseconds.
 """
 
@@ -104,23 +104,36 @@ def test_film_flow_frames_are_small_images(validation):
 
 
 @pytest.mark.reference
-def test_movie_model_from_the_numbers_module_matches_the_benchmark_rows():
-    """numbers_movies.model_seconds, evaluated from the measured rows, against the model rows
-    benchmarks/movie.py wrote (two implementations of the model in its docstring)."""
-    nm = _plugin("numbers_movies")
+def test_movie_model_matches_a_literal_evaluation_and_the_benchmark_rows():
+    """tracer.cluster.model_movie_seconds (used by benchmarks/movie.py and numbers_movies.py)
+    against the model of its docstring written out here frame by frame, from the measured rows,
+    and against the model rows the benchmark wrote."""
+    from tracer.cluster import MODEL_MOVIE, model_movie_seconds
+
     rows = _rows("movie.csv")
     (dask,) = [r for r in rows if r["case"] == "dask"]
-    model = nm._benchmark().MODEL
+    cpu, overhead = float(dask["frame_cpu_seconds"]), float(dask["overhead_per_frame_seconds"])
+    startup = float(dask["cluster_startup_seconds"])
+    encode = float(dask["encode_seconds_median"]) / int(dask["frames"])
+    pixels = int(dask["width"]) * int(dask["height"])
     models = [r for r in rows if r["case"].startswith("model ")]
-    assert sorted(int(r["workers"]) for r in models) == sorted(nm.MODEL_WORKERS)
+    assert sorted(int(r["workers"]) for r in models) == sorted(_plugin("numbers_movies").MODEL_WORKERS)
+    m = MODEL_MOVIE
     for r in models:
-        seconds, frame, rounds = nm.model_seconds(
-            int(r["workers"]), float(dask["frame_cpu_seconds"]), float(dask["overhead_per_frame_seconds"]),
-            float(dask["cluster_startup_seconds"]), float(dask["encode_seconds_median"]) / int(dask["frames"]),
-            int(dask["width"]) * int(dask["height"]), model)
+        workers = int(r["workers"])
+        # literally: deal the frames out to the workers one round at a time
+        frame = cpu * (m["width"] * m["height"] / pixels) * m["spp"]
+        left, wall = m["frames"], startup
+        while left > 0:
+            wall += frame + overhead
+            left -= min(workers, left)
+        wall += m["frames"] * encode * m["width"] * m["height"] / pixels
+        seconds, frame_s, rounds = model_movie_seconds(workers, cpu, overhead, startup, encode, pixels)
+        assert seconds == pytest.approx(wall, rel=1e-12)
+        assert frame_s == pytest.approx(frame, rel=1e-12)
+        assert rounds == math.ceil(m["frames"] / workers)
         assert seconds == pytest.approx(float(r["seconds_median"]), rel=2e-3)
-        assert frame == pytest.approx(float(r["frame_compute_seconds"]), rel=2e-3)
-        assert rounds == math.ceil(model["frames"] / int(r["workers"]))
+        assert frame_s == pytest.approx(float(r["frame_compute_seconds"]), rel=2e-3)
 
 
 @pytest.mark.regression

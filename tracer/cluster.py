@@ -20,6 +20,7 @@ or thread renders it, so a distributed image is bit for bit the local one.
 from __future__ import annotations
 
 import contextlib
+import math
 import sys
 
 import numpy as np
@@ -27,12 +28,37 @@ import numpy as np
 from .integrator import N_COUNTS
 
 __all__ = ["local_cluster", "connect", "cluster_client", "render_tiles", "tile_bounds", "worker_numba_cache_stats",
-           "TILES_PER_WORKER"]
+           "TILES_PER_WORKER", "MODEL_MOVIE", "model_movie_seconds"]
 
 #: Tiles of rows per worker in :func:`render_tiles`: enough that a worker that finishes early
 #: (its rows miss the bubbles) takes another tile, few enough that a tile's fixed cost (a task,
 #: its transfer) stays small beside its rows.
 TILES_PER_WORKER = 8
+
+#: The movie of the scaling model (``benchmarks/movie.py``, the paper's section on movies): a
+#: 3840x2160, 64-spp, one-minute movie at 24 frames a second.
+MODEL_MOVIE = dict(width=3840, height=2160, spp=64, frames=24 * 60)
+
+
+def model_movie_seconds(workers, frame_cpu_seconds, overhead_seconds, startup_seconds, encode_seconds_per_frame,
+                        measured_pixels, model=MODEL_MOVIE):
+    """``(wall seconds, seconds a frame, rounds)`` of *model* on *workers* one-core workers.
+
+    A cost model, not a measurement: a frame costs the measured one-thread CPU time of a
+    *measured_pixels*-pixel, one-sample frame scaled by pixels x samples (camera rays dominate),
+    plus the measured Dask overhead a frame; workers render whole frames in
+    ``ceil(frames / workers)`` rounds; the cluster starts once; one encoder runs at the end at
+    the measured speed (*encode_seconds_per_frame*) scaled by pixels.
+
+    >>> seconds, frame, rounds = model_movie_seconds(512, 0.27, 0.008, 1.5, 0.016, 480 * 480)
+    >>> rounds
+    3
+    """
+    scale = model["width"] * model["height"] * model["spp"] / measured_pixels
+    frame = frame_cpu_seconds * scale
+    encode = encode_seconds_per_frame * model["width"] * model["height"] / measured_pixels * model["frames"]
+    rounds = math.ceil(model["frames"] / workers)
+    return rounds * (frame + overhead_seconds) + startup_seconds + encode, frame, rounds
 
 
 def local_cluster(workers: int):

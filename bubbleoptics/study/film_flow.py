@@ -10,7 +10,12 @@
   interpolated linearly, to see what the interpolation does to thin (black) films;
 * :func:`first_crossing` and :func:`rigid_black_time`: when a thickness first goes below a
   threshold, in a simulated series and by the rigid-drainage apex law
-  :math:`h_0 (1 + t/\\tau)^{-1/2}`.
+  :math:`h_0 (1 + t/\\tau)^{-1/2}`;
+* the validation references of the models, shared by ``tests/test_film_flow.py`` and
+  ``benchmarks/film_flow_validation.py``: :func:`rigid_characteristics_profile` (rigid drainage
+  from a uniform start, by the characteristics of its PDE, integrated with scipy),
+  :func:`plug_equilibrium_error` (plug flow against its closed-form equilibrium) and
+  :func:`coarsen_cells` (a field on the grid half as fine, for self-convergence).
 
 Units: thickness in nm, times in s, angles in radians.  NumPy only (plus
 :mod:`bubbleoptics` inside :func:`film_luminance` and :func:`opd_table_luminance`).
@@ -29,7 +34,15 @@ __all__ = [
     "opd_table_luminance",
     "first_crossing",
     "rigid_black_time",
+    "STILL",
+    "unit_exponent_parameters",
+    "plug_equilibrium_error",
+    "rigid_characteristics_profile",
+    "coarsen_cells",
 ]
+
+#: Film parameters without perturbation or evaporation: the models' analytic cases.
+STILL = dict(perturbation=0.0, evaporation=0.0)
 
 
 def film_luminance(thickness_nm, theta=0.0, n_film=None, illuminant="D65"):
@@ -149,3 +162,60 @@ def rigid_black_time(h0_nm, tau_s, threshold_nm):
     if not 0 < threshold_nm <= h0_nm:
         raise ValueError(f"threshold_nm must be in (0, h0_nm] (got {threshold_nm!r})")
     return float(tau_s * ((h0_nm / threshold_nm) ** 2 - 1.0))
+
+
+# ---------------------------------------------------------------- validation references
+def unit_exponent_parameters(**changes):
+    """:class:`~bubbleoptics.filmflow.FilmParameters` (with *changes*) whose plug-flow
+    equilibrium exponent is a = 1: surfactant Γ0 = ρ g R h0 / (2 R_g T)."""
+    from bubbleoptics.filmflow import FilmParameters
+    from bubbleoptics.filmflow.parameters import GAS_CONSTANT
+
+    p = FilmParameters(**changes)
+    return p.replace(surfactant=p.density * p.gravity * p.radius * p.h0 / (2 * GAS_CONSTANT * p.temperature))
+
+
+def plug_equilibrium_error(n_theta, steps=600, dt=0.005):
+    """``(max relative error, final state, exact h(θ) in m)`` of plug flow on *n_theta* rows (4
+    columns), after *steps* steps of *dt* s from the uniform still film of
+    :func:`unit_exponent_parameters`, against its equilibrium
+    :math:`h_0 \\frac{a}{\\sinh a} e^{-a\\cos\\theta}` (area-normalised, ``docs/film-flow.md``)."""
+    import math
+
+    from bubbleoptics.filmflow import FilmGrid, PlugFlow
+
+    p = unit_exponent_parameters(**STILL)
+    g = FilmGrid(n_theta, 4, p.radius)
+    m = PlugFlow(p, g)
+    s = m.initial_state(0)
+    for _ in range(steps):
+        s = m.step(s, dt)
+    a = p.equilibrium_exponent
+    exact = p.h0 * a / math.sinh(a) * np.exp(-a * np.cos(g.theta))
+    return np.abs(s.h / exact[:, None] - 1).max(), s, exact
+
+
+def rigid_characteristics_profile(s_end, starts=201):
+    """``(θ, h/h0)`` of rigid drainage at t = *s_end* τ from a uniform film, along the
+    characteristics of its PDE (dθ/ds = (3/4) H² sin θ, dH/ds = −(1/2) H³ cos θ, s = t/τ) from
+    *starts* points in θ ∈ [0, 2], integrated by :func:`scipy.integrate.solve_ivp` (rtol 1e-11)."""
+    import math
+
+    from scipy.integrate import solve_ivp
+
+    def rhs(_, y):
+        return [0.75 * y[1] ** 2 * math.sin(y[0]), -0.5 * y[1] ** 3 * math.cos(y[0])]
+
+    ends = [solve_ivp(rhs, (0, s_end), [t0, 1.0], rtol=1e-11, atol=1e-13).y[:, -1]
+            for t0 in np.linspace(0, 2, starts)]
+    return np.array(ends).T
+
+
+def coarsen_cells(grid, h):
+    """Area-weighted means of 2 x 2 blocks of cells of *h* on *grid*: the field on the grid half
+    as fine (for a grid against the next finer)."""
+    from bubbleoptics.filmflow import FilmGrid
+
+    coarse = FilmGrid(grid.n_theta // 2, grid.n_phi // 2, grid.radius)
+    volume = (grid.area[:, None] * h).reshape(coarse.n_theta, 2, coarse.n_phi, 2).sum(axis=(1, 3))
+    return volume / coarse.area[:, None]

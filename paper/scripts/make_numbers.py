@@ -1005,9 +1005,7 @@ def _plugins():
     """The ``numbers_*.py`` modules beside this script, imported, in name order."""
     import importlib
 
-    here = Path(__file__).resolve().parent
-    if str(here) not in sys.path:
-        sys.path.insert(0, str(here))
+    here = Path(__file__).resolve().parent  # Python puts a script's own folder first on its module path
     return [importlib.import_module(path.stem) for path in sorted(here.glob("numbers_*.py"))]
 
 

@@ -4,16 +4,14 @@
   LocalCluster, Dask's overhead a frame, the encoder's share, one large image here and as row
   tiles, and the scaling model.  The model (a 3840x2160, 64-spp, one-minute movie on 8, 64 and
   512 one-core workers; assumptions in ``benchmarks/movie.py``'s docstring) is evaluated here
-  again from the measured rows and the model's constants (``MODEL``, ``WORKERS`` of
-  ``benchmarks/movie.py``, imported), and checked against the benchmark's own model rows: a
+  again from the measured rows by :func:`tracer.cluster.model_movie_seconds` (the function the
+  benchmark uses, with :data:`tracer.cluster.MODEL_MOVIE`), and checked against the benchmark's own model rows: a
   difference of more than 1 % makes the section n/a.
 * ``moviefiles``: the example commands files in ``data/movies/`` (frames and what they do).
 """
 
 from __future__ import annotations
 
-import importlib.util
-import math
 import re
 
 from make_numbers import ROOT, _date, _machine, read_commented_csv, significant
@@ -22,11 +20,12 @@ MODEL_WORKERS = (8, 64, 512)
 _WORDS = {8: "Eight", 64: "SixtyFour", 512: "FiveTwelve"}
 
 
-def _benchmark():
-    spec = importlib.util.spec_from_file_location("benchmark_movie", ROOT / "benchmarks" / "movie.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+def _tile_image():
+    """The benchmark's large image (``TILE_IMAGE = dict(...)`` in ``benchmarks/movie.py``), read
+    from its source text: the CSV does not record its samples per pixel."""
+    text = (ROOT / "benchmarks" / "movie.py").read_text(encoding="utf-8")
+    m = re.search(r"^TILE_IMAGE = dict\(([^)]*)\)", text, flags=re.MULTILINE)
+    return {k.strip(): int(v) for k, v in (item.split("=") for item in m.group(1).split(","))}
 
 
 def _tiles_per_worker():
@@ -35,22 +34,10 @@ def _tiles_per_worker():
     return TILES_PER_WORKER
 
 
-def model_seconds(workers, frame_cpu_s, overhead_s, startup_s, encode_s, measured_pixels, model):
-    """Wall seconds of the benchmark's model movie on *workers* one-core workers: rounds of whole
-    frames (each the measured one-thread CPU time a frame scaled by pixels x samples, plus the
-    measured overhead a frame), the cluster's start-up, and the encoder once (its measured time a
-    frame scaled by pixels).  *encode_s*: the encoder's seconds for the measured movie of
-    *measured_pixels*-pixel frames, per frame."""
-    scale = model["width"] * model["height"] * model["spp"] / measured_pixels
-    frame = frame_cpu_s * scale
-    encode = encode_s * model["width"] * model["height"] / measured_pixels * model["frames"]
-    rounds = math.ceil(model["frames"] / workers)
-    return rounds * (frame + overhead_s) + startup_s + encode, frame, rounds
-
-
 def movies(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "movie.csv")
-    bench = _benchmark()
+    from tracer.cluster import MODEL_MOVIE, model_movie_seconds
+
     by_case = {}
     for r in rows:
         by_case.setdefault(r["case"], []).append(r)
@@ -86,7 +73,7 @@ def movies(dirs):
         "MovieImageTilesS": significant(f(tiles, "seconds_median"), 2),
         "MovieImageTilesMin": significant(f(tiles, "seconds_min"), 2),
         "MovieImageTilesMax": significant(f(tiles, "seconds_max"), 2),
-        "MovieTileSpp": str(bench.TILE_IMAGE["spp"]),
+        "MovieTileSpp": str(_tile_image()["spp"]),
         "MovieTilesPerWorker": str(_tiles_per_worker()),
     }
     load = re.search(r"load average ([0-9.]+) before, ([0-9.]+) after", notes[0])
@@ -96,15 +83,16 @@ def movies(dirs):
     if reps:
         out["MovieRepeats"] = reps.group(1)
     # the model, again, from the measured rows
-    model = bench.MODEL
+    model = MODEL_MOVIE
     out.update(MovieModelWidth=str(model["width"]), MovieModelHeight=str(model["height"]),
                MovieModelSpp=str(model["spp"]), MovieModelFrames=str(model["frames"]),
                MovieModelMinutes=format(model["frames"] / 24 / 60, "g"))
     stored = {int(f(r, "workers")): r for r in rows if r["case"].startswith("model ")}
     encode_per_frame = f(dask, "encode_seconds_median") / frames
     for w in MODEL_WORKERS:
-        seconds, frame, rounds = model_seconds(w, f(dask, "frame_cpu_seconds"), f(dask, "overhead_per_frame_seconds"),
-                                               f(dask, "cluster_startup_seconds"), encode_per_frame, size * size, model)
+        seconds, frame, rounds = model_movie_seconds(w, f(dask, "frame_cpu_seconds"),
+                                                     f(dask, "overhead_per_frame_seconds"),
+                                                     f(dask, "cluster_startup_seconds"), encode_per_frame, size * size)
         if abs(seconds / f(stored[w], "seconds_median") - 1) > 0.01:
             raise ValueError(f"the model for {w} workers gives {seconds:.4g} s, the CSV {stored[w]['seconds_median']}")
         word = _WORDS[w]
