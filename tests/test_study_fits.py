@@ -322,7 +322,15 @@ def test_load_timing_matches_the_coursework_and_is_complete():
             np.testing.assert_array_equal(coursework_seconds, COURSEWORK["seconds"][nb])
             _, rays = timing_series(timing, nb, mode, "rays_total")
             assert rays.dtype.kind == "i" and np.all(np.diff(rays) >= 0)
-    assert [row["mode"] for row in timing["extra"]] == ["fresh process, start to saved image"]
+    extra = [row["mode"] for row in timing["extra"]]
+    assert extra[-1] == "fresh process, start to saved image"
+    assert sorted(set(extra[:-1])) == ["threads 1", "threads 2"] and len(extra[:-1]) == 12  # 3 scenes, depth 1 and 10
+    # the spread columns: quartiles inside the runs' range, the median between them
+    for column in ("seconds_q1", "seconds_q3", "seconds_min", "seconds_max"):
+        assert np.all(np.isfinite(timing[column]))
+    assert np.all((timing["seconds_min"] <= timing["seconds_q1"]) & (timing["seconds_q1"] <= timing["seconds_median"])
+                  & (timing["seconds_median"] <= timing["seconds_q3"]) & (timing["seconds_q3"] <= timing["seconds_max"]))
+    assert timing["seconds_runs"].shape[1] >= 9
     with pytest.raises(ValueError, match="mode"):
         timing_series(timing, 1, "fast")
 
