@@ -75,14 +75,15 @@ def test_two_sphere_bubble_levels_follow_fibonacci():
 def test_benchmark_file_shows_chain_and_golden_ratio():
     """The benchmark's counts (960 x 960): the thin-film tree of one bubble is a chain (branching
     exactly 1), with more bubbles within 10 % of it; the two-sphere tree branches by the golden
-    ratio within 2 % from level 6 on, for one, two and three bubbles."""
+    ratio within 2 % from level 7 on (the ratios of successive Fibonacci numbers oscillate about
+    it: 5/3 at level 6 is 3 % off), for one, two and three bubbles."""
     rays = load_rays(ROOT / "data" / "derived" / "coursework_rays.csv")
     for nb in (1, 2, 3):
         depth, thin = rays_series(rays, "thin film", nb, "branching")
         _, two = rays_series(rays, "two spheres", nb, "branching")
         assert depth.tolist() == list(range(1, 11))
         assert np.all(np.abs(thin[2:] - 1) < (1e-12 if nb == 1 else 0.1))
-        assert np.all(np.abs(two[5:] / GOLDEN - 1) < 0.02)
+        assert np.all(np.abs(two[6:] / GOLDEN - 1) < 0.02)
         for model in ("thin film", "two spheres"):
             _, level = rays_series(rays, model, nb)
             _, shadow = rays_series(rays, model, nb, "rays_shadow")

@@ -139,12 +139,12 @@ def rays(dirs):
     thin, two_late = [], []
     cw = _coursework_intervals(dirs, n_boot=0)
     cw_low = min(i.profile[0] for i in cw.values())
-    below = True
+    below, overlap_count = True, 0
     for nb, word in WORDS.items():
         depth, br = rays_series(data, "thin film", nb, "branching")
         thin += list(br[np.isfinite(br)])
         depth, br = rays_series(data, "two spheres", nb, "branching")
-        two_late += list(br[depth >= 6])
+        two_late += list(br[depth >= 7])
         out[f"RaysTwoBranchTen{word}"] = f"{br[depth == 10][0]:.3f}"
         _, level = rays_series(data, "two spheres", nb)
         out[f"RaysTwoLevelTen{word}"] = _group(str(int(level[-1])))
@@ -159,12 +159,20 @@ def rays(dirs):
         out[f"TwoSphereTimeBranch{word}"] = f"{ci.b:.3f}"
         out[f"TwoSphereTimeBranchLow{word}"] = f"{ci.profile[0]:.3f}"
         out[f"TwoSphereTimeBranchHigh{word}"] = f"{ci.profile[1]:.3f}"
-        below = below and ci.profile[1] < cw_low
+        own = cw[nb].profile
+        overlap_count += bool(ci.profile[0] < own[1] and own[0] < ci.profile[1])
+        ci_rays = branching_interval(d, total, level=LEVEL, n_boot=0)
+        out[f"RaysTwoTotalBranch{word}"] = f"{ci_rays.b:.3f}"
+        out[f"RaysTwoTotalBranchLow{word}"] = f"{ci_rays.profile[0]:.3f}"
+        out[f"RaysTwoTotalBranchHigh{word}"] = f"{ci_rays.profile[1]:.3f}"
+        below = below and ci_rays.profile[1] < cw_low
     out["RaysThinBranchMin"] = f"{min(thin):.3f}"
     out["RaysThinBranchMax"] = f"{max(thin):.3f}"
     out["RaysTwoBranchLateMin"] = f"{min(two_late):.3f}"
     out["RaysTwoBranchLateMax"] = f"{max(two_late):.3f}"
-    out["TwoSphereBelowCoursework"] = "1" if below else "0"
+    out["TwoSphereRaysBelowCoursework"] = "1" if below else "0"
+    out["TwoSphereTimeOverlapCount"] = str(overlap_count)
+    out["GoldenBelowCoursework"] = "1" if GOLDEN < cw_low else "0"
     return out
 
 
@@ -182,10 +190,11 @@ def two_sphere_scene(dirs):
 
 RAYS_MACROS = (["RaysMachine", "RaysDate", "RaysWidth", "RaysRepeats", "RaysLoadBefore", "RaysLoadAfter",
                 "RaysThinBranchMin", "RaysThinBranchMax", "RaysTwoBranchLateMin", "RaysTwoBranchLateMax",
-                "TwoSphereBelowCoursework"]
+                "TwoSphereRaysBelowCoursework", "TwoSphereTimeOverlapCount", "GoldenBelowCoursework"]
                + [f"{k}{w}" for k in ("RaysTwoBranchTen", "RaysTwoLevelTen", "RaysTwoTotalGrowth", "RaysThinTotalGrowth",
                                       "TwoSphereTimeTen", "TwoSphereTimeGrowth", "TwoSphereTimeBranch",
-                                      "TwoSphereTimeBranchLow", "TwoSphereTimeBranchHigh") for w in WORDS.values()])
+                                      "TwoSphereTimeBranchLow", "TwoSphereTimeBranchHigh", "RaysTwoTotalBranch",
+                                      "RaysTwoTotalBranchLow", "RaysTwoTotalBranchHigh") for w in WORDS.values()])
 
 SECTIONS = {
     "courseworktwosphere": (["data/scenes/coursework_two_sphere_one_bubble.txt"], two_sphere_scene,
@@ -196,7 +205,7 @@ SECTIONS = {
     "courseworkrays": (["derived/coursework_rays.csv", "data/coursework_table_4_1.csv"], rays, RAYS_MACROS),
 }
 
-FLAGS = {"IdenticalAgree": "0", "TwoSphereBelowCoursework": "0"}
+FLAGS = {"IdenticalAgree": "0", "TwoSphereRaysBelowCoursework": "0", "GoldenBelowCoursework": "0"}
 
 
 def throughput(dirs):
