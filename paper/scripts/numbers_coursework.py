@@ -59,8 +59,8 @@ def spread(dirs):
     out["OursRangeMax"] = significant(float(np.max(full)), 2)
     checks = identical_work_check(timing)
     ratios = [c["ratio"] for c in checks]
-    out["IdenticalRatioMin"] = significant(min(ratios), 3, 2)
-    out["IdenticalRatioMax"] = significant(max(ratios), 3, 2)
+    out["IdenticalRatioMin"] = f"{min(ratios):.2f}"
+    out["IdenticalRatioMax"] = f"{max(ratios):.2f}"
     out["IdenticalAgree"] = "1" if all(c["overlap"] for c in checks) else "0"
     out["IdenticalDisagreeCount"] = str(sum(not c["overlap"] for c in checks))
     return out
