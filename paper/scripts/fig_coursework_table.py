@@ -7,8 +7,10 @@ writes ``fig_coursework_table.pdf``/``.png``.
 
 Colours: one, two, three bubbles.  Open circles, dotted: the coursework.  Squares, solid: our
 exhaustive tree (the coursework's algorithm, threshold 0).  Triangles, dashed: our default, pruned.
-Ours are medians of the benchmark's runs; the vertical bars span the fastest to the slowest run
-(the isolated spikes are runs disturbed by the shared two-core machine, not the algorithm).
+Ours are medians of the benchmark's interleaved runs; the thick bars span the interquartile range,
+the thin ones the fastest to the slowest run (an isolated slow run is one disturbed by other work
+on the shared two-core machine, not the algorithm).  Exhaustive and pruned points are drawn a
+little left and right of their depth so that their bars do not hide each other.
 Quick mode draws the same figure (it only reads tables).
 """
 
@@ -21,8 +23,10 @@ from matplotlib.lines import Line2D
 import paths
 import style
 from bubbleoptics.study import load_coursework_table, load_timing, timing_series
+from bubbleoptics.study.coursework import timing_spread
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
+OFFSET = {"coursework": 0.0, "exhaustive": -0.12, "pruned": 0.12}  # in depth, so bars do not overlap
 SOURCES = {  # label, marker, line style, filled marker
     "coursework": ("coursework ({machine})", "o", ":", False),  # the machine from the table's notes
     "exhaustive": ("ours, exhaustive", "s", "-", True),
@@ -43,13 +47,16 @@ def main(argv=None):
     for (nb, name), color in zip(SCENES.items(), colors):
         series = {"coursework": (coursework["depth"], coursework["seconds"][nb])}
         for mode in ("exhaustive", "pruned"):
-            series[mode] = timing_series(timing, nb, mode)
-            depth, runs = timing_series(timing, nb, mode, "seconds_runs")
-            ax.vlines(depth, np.nanmin(runs, axis=1), np.nanmax(runs, axis=1), color=color, linewidth=0.6)
+            depth, median, low, high = timing_spread(timing, nb, mode)
+            series[mode] = (depth, median)
+            _, runs = timing_series(timing, nb, mode, "seconds_runs")
+            x = depth + OFFSET[mode]
+            ax.vlines(x, np.nanmin(runs, axis=1), np.nanmax(runs, axis=1), color=color, linewidth=0.5)
+            ax.vlines(x, low, high, color=color, linewidth=2.0, alpha=0.6)
         for source, (depth, seconds) in series.items():
             _, marker, ls, filled = SOURCES[source]
-            ax.plot(depth, seconds, ls, marker=marker, color=color, markerfacecolor=color if filled else "white",
-                    markeredgewidth=0.7, clip_on=False)
+            ax.plot(depth + OFFSET[source], seconds, ls, marker=marker, color=color,
+                    markerfacecolor=color if filled else "white", markeredgewidth=0.7, markersize=3.5, clip_on=False)
     ax.set_yscale("log")
     ax.set_xlabel("trace depth")
     ax.set_ylabel("render time, $960 \\times 960$ (s)")

@@ -9,7 +9,8 @@ here with the same relative weights as the other two, not the coursework's own c
 it fitted to the times by absolute residuals), one colour per scene.  Bottom: relative residuals
 (t − t̂)/t of each law, one panel per law, titled with its number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
 to depths 1-7 (TRAIN_DEPTH), which tells a law that explains the growth from one that
-interpolates it.  All fits by bubbleoptics.study with the same weighting (relative, 1/t; the
+interpolates it.  The legend gives each column's 95 % profile-likelihood interval of b
+(:func:`bubbleoptics.study.fits.branching_interval`).  All fits by bubbleoptics.study with the same weighting (relative, 1/t; the
 quartic as well, so that every law sits at its own optimum of the same criterion).
 Quick mode draws the same figure (the fits take milliseconds).
 """
@@ -21,6 +22,7 @@ import numpy as np
 import paths
 import style
 from bubbleoptics import study
+from bubbleoptics.study.fits import branching_interval
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 LAWS = {  # model name of bubbleoptics.study's fits -> panel title, line style, fitter
@@ -45,8 +47,9 @@ def main(argv=None):
     for (nb, name), color in zip(SCENES.items(), colors):
         comparison = study.compare_fits(depth, coursework["seconds"][nb])
         fits = {row["model"]: row["fit"] for row in comparison.rows}
+        low, high = branching_interval(depth, coursework["seconds"][nb], n_boot=0).profile
         axes["fit"].plot(depth, coursework["seconds"][nb], "o", color=color, markerfacecolor="white",
-                         markeredgewidth=0.7, label=name, zorder=3)
+                         markeredgewidth=0.7, label=f"{name}: ${low:.3f} \\leq b \\leq {high:.3f}$", zorder=3)
         for law, (_, ls, fitter) in LAWS.items():
             axes["fit"].plot(fine, fits[law].predict(fine), ls, color=color, linewidth=0.8)
             axes[law].plot(depth, 100 * fits[law].relative_residuals, "o-", color=color, linewidth=0.6,
