@@ -47,6 +47,7 @@ bench: $(STAMP)
 	$(PY) -m pip install --quiet -e '.[mitsuba]'
 	$(PY) benchmarks/optics_speed.py
 	$(PY) benchmarks/coursework_table.py
+	$(PY) benchmarks/coursework_rays.py
 	$(PY) benchmarks/bandlimited_colour.py
 	$(PY) benchmarks/stability.py
 	$(PY) benchmarks/time_vs_error.py
@@ -56,6 +57,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/output_memory.py
 	$(PY) benchmarks/movie.py
 	$(PY) benchmarks/film_flow.py
+	$(PY) benchmarks/film_flow_validation.py
 	$(PY) benchmarks/peer_mitsuba.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).
