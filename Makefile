@@ -49,6 +49,8 @@ bench: $(STAMP)
 	$(PY) benchmarks/stability.py
 	$(PY) benchmarks/time_vs_error.py
 	$(PY) benchmarks/throughput.py
+	$(PY) benchmarks/energy.py
+	$(PY) benchmarks/two_beam_render.py
 	$(PY) benchmarks/editor_latency.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).

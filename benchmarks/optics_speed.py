@@ -19,8 +19,8 @@ Spread: every row has the fastest and the slowest of its runs (``min_seconds``,
 ``max_seconds``; tmm: of its calls timed in :data:`TMM_BATCHES` batches, extrapolated alike),
 and the range of its ratio to bubbleoptics (``ratio_min``, ``ratio_max``): over the repeats
 that ran both in the same round (NumPy and colour-science in the sweep; ``ratio_to_bubbleoptics``
-is then the median of those paired ratios), else the peer's range over bubbleoptics' median.  The header records the machine's load average (1 min)
-before and after.
+is then the median of those paired ratios), else the peer's range over bubbleoptics' median.
+The header records the machine's load average (1 min) before and after.
 """
 
 import argparse
@@ -212,7 +212,8 @@ def main(argv=None):
         base = t_ours if row["case"] == "sweep" else t_xyz
         paired_ratios = row.pop("paired")
         # the median of the paired ratios where there are pairs (the ratio of the medians need not lie in their range)
-        row["ratio_to_bubbleoptics"] = float(np.median(paired_ratios)) if paired_ratios else row["median_seconds"] / base
+        row["ratio_to_bubbleoptics"] = (float(np.median(paired_ratios)) if paired_ratios
+                                        else row["median_seconds"] / base)
         ratios = paired_ratios or [row["min_seconds"] / base, row["max_seconds"] / base]
         row["ratio_min"], row["ratio_max"] = float(np.min(ratios)), float(np.max(ratios))
     load_after = load_average()

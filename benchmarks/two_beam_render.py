@@ -14,6 +14,10 @@ Scenes: the built-in scene (three draining bubbles, 25-950 nm, under a point lig
 gallery bubbles under the sky (``data/scenes/gallery_bubbles.toml``) and three young films
 1.6-3 um thick (``data/scenes/thick_films.toml``).
 
+Every scene is rendered again with twice the bands and with 9 samples per pixel
+(:data:`CHECKS`, rows with a ``variant``; not with ``--quick``) to show that the statistics
+have converged.
+
 Writes ``data/derived/two_beam_render.csv`` (per scene: mean, median, p95 and max ΔE00 over the
 bubble pixels and over all pixels, the share of bubble pixels above ΔE00 = 1 and 2, the render
 seconds of both models) and ``data/derived/two_beam_render.npz`` (8-bit display images of both
@@ -49,10 +53,14 @@ QUICK_SIZE = 40
 SETTINGS = dict(depth=10, spp=4, threshold=0.0, spectral_samples=81, spectral_method="point", seed=0)
 QUICK_SETTINGS = dict(SETTINGS, spp=1, spectral_samples=16)
 
+#: Convergence checks, each scene rendered again with one setting raised: the rows with a
+#: ``variant`` say how much the statistics move (the main rows have variant "").
+CHECKS = {"161 bands": dict(spectral_samples=161), "9 spp": dict(spp=9)}
+
 SCENES = {"builtin": None, "bubbles": "gallery_bubbles.toml", "thick": "thick_films.toml"}
 LABELS = {"builtin": "built-in scene", "bubbles": "six bubbles under the sky", "thick": "young thick films"}
 
-COLUMNS = ("scene", "label", "width", "height", "spectral_samples", "spp", "depth", "threshold",
+COLUMNS = ("scene", "label", "variant", "width", "height", "spectral_samples", "spp", "depth", "threshold",
            "bubble_pixels", "bubble_mean_de00", "bubble_median_de00", "bubble_p95_de00", "bubble_max_de00",
            "bubble_share_above_1", "bubble_share_above_2", "all_mean_de00", "all_p95_de00", "all_max_de00",
            "seconds_airy", "seconds_two_beam")
@@ -82,7 +90,7 @@ def bubble_pixels(scene, size):
     return bubble_mask(hits, packed.spheres["surface"] == 0)
 
 
-def measure(name, size, settings):
+def measure(name, size, settings, variant=""):
     """One scene: (CSV row, {array name: array}) of both renders and their ΔE00."""
     import tracer
     from tracer.output import display_codes
@@ -96,8 +104,8 @@ def measure(name, size, settings):
     de = delta_e00_images(images["two-beam"], images["airy"])
     mask = bubble_pixels(scene, size)
     b = de[mask]
-    row = dict(scene=name, label=LABELS[name], width=size, height=size, spectral_samples=settings["spectral_samples"],
-               spp=settings["spp"], depth=settings["depth"], threshold=settings["threshold"],
+    row = dict(scene=name, label=LABELS[name], variant=variant, width=size, height=size,
+               spectral_samples=settings["spectral_samples"], spp=settings["spp"], depth=settings["depth"], threshold=settings["threshold"],
                bubble_pixels=int(mask.sum()), bubble_mean_de00=float(b.mean()),
                bubble_median_de00=float(np.median(b)), bubble_p95_de00=float(np.percentile(b, 95)),
                bubble_max_de00=float(b.max()), bubble_share_above_1=float(np.mean(b > 1.0)),
@@ -133,6 +141,10 @@ def main(argv=None):
         row, arr = measure(name, size, settings)
         rows.append(row)
         arrays.update(arr)
+        if not args.quick:
+            for variant, change in CHECKS.items():
+                check, _ = measure(name, size, dict(settings, **change), variant)
+                rows.append(check)
         print(f"{name}: bubble pixels mean {row['bubble_mean_de00']:.2f}, p95 {row['bubble_p95_de00']:.2f}, "
               f"max {row['bubble_max_de00']:.2f} ΔE00", file=sys.stderr)
     load_after = Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "n/a"

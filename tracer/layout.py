@@ -100,9 +100,9 @@ PHONG = np.dtype([("ambient", np.float64), ("diffuse", np.float64), ("specular",
                   ("transmission", np.float64), ("shininess", np.float64), ("ior", np.float64)], align=True)
 
 #: A soap film on a sphere: its thickness profile (tracer.films), highlight exponent, film
-#: model (Airy sum or two-beam formula) and whether it is lossless (every channel's index real); its index per channel is
-#: ``PackedScene.film_n + 1j * film_k`` (band centres) and ``film_n_edges``, ``film_k_edges``
-#: (band edges).
+#: model (Airy sum or two-beam formula) and whether it is lossless (every channel's index
+#: real); its index per channel is ``PackedScene.film_n + 1j * film_k`` (band centres) and
+#: ``film_n_edges``, ``film_k_edges`` (band edges).
 FILM = np.dtype([
     ("profile", np.int64),
     ("thickness_nm", np.float64),  # uniform
