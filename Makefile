@@ -52,6 +52,8 @@ bench: $(STAMP)
 	$(PY) benchmarks/stability.py
 	$(PY) benchmarks/time_vs_error.py
 	$(PY) benchmarks/throughput.py
+	$(PY) benchmarks/energy.py
+	$(PY) benchmarks/two_beam_render.py
 	$(PY) benchmarks/editor_latency.py
 	$(PY) benchmarks/mesh_scale.py
 	$(PY) benchmarks/output_memory.py

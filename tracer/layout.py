@@ -39,6 +39,9 @@ __all__ = [
     "ENV_SKY",
     "ENV_IMAGE",
     "N_SWIRL_WAVES",
+    "FILM_MODEL_AIRY",
+    "FILM_MODEL_TWO_BEAM",
+    "FILM_MODELS",
     "SPHERE",
     "TRIANGLE",
     "PHONG",
@@ -68,6 +71,13 @@ ENV_CONSTANT = 0
 ENV_SKY = 1
 ENV_IMAGE = 2
 
+# How a film's R and T are computed (tracer.surfaces.soap_film.film_optics): the exact Airy
+# sum, or the coursework's two-beam formula (bubbleoptics.kernels.two_beam_r_nb, T = 1 - R).
+FILM_MODEL_AIRY = 0
+FILM_MODEL_TWO_BEAM = 1
+#: ``Bubble.film_model`` values and their codes.
+FILM_MODELS = {"airy": FILM_MODEL_AIRY, "two-beam": FILM_MODEL_TWO_BEAM}
+
 #: Plane waves summed by a film's swirl (tracer.films.film_thickness).
 N_SWIRL_WAVES = 4
 
@@ -89,10 +99,10 @@ TRIANGLE = np.dtype([("normal", *_V3), ("surface", np.int64), ("index", np.int64
 PHONG = np.dtype([("ambient", np.float64), ("diffuse", np.float64), ("specular", np.float64),
                   ("transmission", np.float64), ("shininess", np.float64), ("ior", np.float64)], align=True)
 
-#: A soap film on a sphere: its thickness profile (tracer.films), highlight exponent and
-#: whether it is lossless (every channel's index real); its index per channel is
-#: ``PackedScene.film_n + 1j * film_k`` (band centres) and ``film_n_edges``, ``film_k_edges``
-#: (band edges).
+#: A soap film on a sphere: its thickness profile (tracer.films), highlight exponent, film
+#: model (Airy sum or two-beam formula) and whether it is lossless (every channel's index
+#: real); its index per channel is ``PackedScene.film_n + 1j * film_k`` (band centres) and
+#: ``film_n_edges``, ``film_k_edges`` (band edges).
 FILM = np.dtype([
     ("profile", np.int64),
     ("thickness_nm", np.float64),  # uniform
@@ -110,6 +120,7 @@ FILM = np.dtype([
     ("shininess", np.float64),  # exponent of point-light highlights
     ("uniform", np.bool_),  # thickness the same everywhere (profile uniform, no swirl)
     ("lossless", np.bool_),  # every channel's index real: R + T = 1
+    ("model", np.int64),  # FILM_MODEL_AIRY or FILM_MODEL_TWO_BEAM
 ], align=True)
 
 #: A light (:class:`tracer.scene.PointLight`): its centre, radius (0: a point), falloff

@@ -26,7 +26,7 @@ from .meshes import (computed_vertex_normals, corner_normals, face_normals, orie
 from .scene import MAX_LIGHT_SAMPLES, Scene, unit_vector
 
 __all__ = ["pack_scene", "channel_setup", "film_thickness_bound_nm", "resolve_spectral_method",
-           "AUTO_FRINGE_BANDS", "SPECTRAL_METHODS"]
+           "AUTO_FRINGE_BANDS", "SPECTRAL_METHODS", "film_model_code"]
 
 _ENV_KINDS = {"constant": lay.ENV_CONSTANT, "sky": lay.ENV_SKY, "image": lay.ENV_IMAGE}
 _PROFILES = {"uniform": lay.PROFILE_UNIFORM, "draining": lay.PROFILE_DRAINING, "map": lay.PROFILE_MAP}
@@ -195,7 +195,17 @@ def _film_index(b, wavelengths):
     return np.full(np.shape(wavelengths), n, dtype=complex)
 
 
-def _film_record(rec, fp, shininess, lossless, maps, map_size):
+def film_model_code(b) -> int:
+    """The :data:`tracer.layout.FILM_MODELS` code of bubble *b*'s ``film_model``; a
+    :class:`ValueError` naming the bubble for any other value."""
+    model = b.film_model
+    if not isinstance(model, str) or model not in lay.FILM_MODELS:
+        choices = ", ".join(map(repr, lay.FILM_MODELS))
+        raise ValueError(f"bubble {b.name!r}: film_model must be one of {choices} (got {model!r})")
+    return lay.FILM_MODELS[model]
+
+
+def _film_record(rec, fp, shininess, lossless, maps, map_size, model=lay.FILM_MODEL_AIRY):
     """Fill a FILM record from a FilmProfile; returns the new size of the flat map table."""
     if fp.kind not in _PROFILES:
         raise ValueError(f"unknown film kind {fp.kind!r}")
@@ -218,6 +228,7 @@ def _film_record(rec, fp, shininess, lossless, maps, map_size):
     rec["shininess"] = shininess
     rec["uniform"] = fp.kind == "uniform" and fp.swirl == 0.0
     rec["lossless"] = lossless
+    rec["model"] = model
     return map_size
 
 
@@ -342,11 +353,19 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     (:func:`bubbleoptics.kernels.film_band_average_nb`), which does not alias on thick films;
     ``"auto"`` chooses between them (:func:`resolve_spectral_method`).
     ``PackedScene.band_mode`` records the choice.
+
+    A bubble with ``film_model="two-beam"`` is evaluated at the band centres whatever the
+    method (the two-beam formula has no band average here), so ``"band"`` is refused for a
+    scene with one; it is lossless whatever its index (the formula uses only Re n, T = 1 - R).
     """
     from .simulated import resolve_simulated_films
 
     scene = resolve_simulated_films(scene)  # simulated films as the maps they show (popped bubbles gone)
     check_magnitudes(scene)
+    models = [film_model_code(b) for b in scene.bubbles]
+    if spectral_method == "band" and lay.FILM_MODEL_TWO_BEAM in models:
+        raise ValueError("spectral_method 'band' cannot render a bubble with film_model 'two-beam' "
+                         "(the two-beam formula has no band average): use 'point' or 'auto'")
     spectral_method = resolve_spectral_method(scene, spectral_samples, spectral_method)
     spectral = bool(scene.bubbles) if force_spectral is None else bool(force_spectral)
     wl, to_rgb, basis = channel_setup(spectral, spectral_samples)
@@ -399,8 +418,9 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
     for i, b in enumerate(scene.bubbles):
         film_n[i] = _film_index(b, wl)
         film_n_edges[i] = _film_index(b, edges) if spectral else film_n[i, 0]
-        lossless = not np.any(film_n[i].imag) and not np.any(film_n_edges[i].imag)
-        map_size = _film_record(films[i:i + 1], b.film, b.shininess, lossless, maps, map_size)
+        two_beam = models[i] == lay.FILM_MODEL_TWO_BEAM
+        lossless = two_beam or (not np.any(film_n[i].imag) and not np.any(film_n_edges[i].imag))
+        map_size = _film_record(films[i:i + 1], b.film, b.shininess, lossless, maps, map_size, models[i])
     film_maps = np.concatenate(maps) if maps else np.zeros(1)
 
     lights, light_radiance = _light_records(scene.lights, basis)

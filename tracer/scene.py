@@ -126,6 +126,9 @@ class Bubble:
     n_film: float | complex | str = "water"
     shininess: float = 200.0  # exponent of point-light highlights (weighted by R)
     name: str = "bubble"
+    # "airy" (the exact sum of all reflected beams) or "two-beam" (the coursework's two-beam
+    # formula, R = 4 R01 sin^2(beta), T = 1 - R: to show that model's error in a render)
+    film_model: str = "airy"
 
 
 @dataclass

@@ -9,7 +9,7 @@ A scene file has these tables, all optional except that at least one object must
                      threshold, seed, spectral_method)
     [materials.NAME] color, ambient, diffuse, specular, transmission, shininess, ior
     [[spheres]]      name, center, radius, material
-    [[bubbles]]      name, center, radius, n_film, shininess, and a [bubbles.film] table
+    [[bubbles]]      name, center, radius, n_film, shininess, film_model, and a [bubbles.film] table
     [[meshes]]       name, path | vertices + faces (0-based) [+ normals], material, translate,
                      scale, shading
     [[lights]]       position, intensity | power, color, falloff, radius, samples
@@ -39,6 +39,7 @@ from bubbleoptics.colorimetry import srgb_to_linear_srgb
 from .assets import AssetError, load_environment_image, load_film_map, load_film_series, load_mesh_file
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
+from .layout import FILM_MODELS
 from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, MAX_INDEX, MAX_MAGNITUDE
 from .output import MAX_EXPOSURE, VIEWS
 from .scene import (
@@ -556,7 +557,7 @@ def _material_ref(c: _Ctx, kp, t, materials, owner) -> Material:
 
 
 def _bubble(c: _Ctx, kp, t) -> Bubble:
-    c.keys(kp, t, {"name", "center", "radius", "n_film", "shininess", "film"}, ("center", "radius"),
+    c.keys(kp, t, {"name", "center", "radius", "n_film", "shininess", "film", "film_model"}, ("center", "radius"),
            "[[bubbles]]")
     d = Bubble(center=(0.0, 0.0, 0.0), radius=1.0)
     n_film = t.get("n_film", d.n_film)
@@ -565,6 +566,9 @@ def _bubble(c: _Ctx, kp, t) -> Bubble:
             raise c.bad(kp + ("n_film",), f"must be \"water\" or a number, got '{n_film}'")
     else:
         n_film = c.number(kp + ("n_film",), n_film, 0.0, MAX_INDEX, lo_open=True)
+    film_model = c.string(kp + ("film_model",), t.get("film_model", d.film_model))
+    if film_model not in FILM_MODELS:
+        raise c.bad(kp + ("film_model",), f"must be one of {', '.join(map(repr, FILM_MODELS))}, got '{film_model}'")
     return Bubble(
         center=c.vec3(kp + ("center",), t["center"]),
         radius=c.number(kp + ("radius",), t["radius"], 0.0, lo_open=True),
@@ -572,6 +576,7 @@ def _bubble(c: _Ctx, kp, t) -> Bubble:
         n_film=n_film,
         shininess=c.number(kp + ("shininess",), t.get("shininess", d.shininess), 0.0),
         name=c.string(kp + ("name",), t["name"]) if "name" in t else d.name,
+        film_model=film_model,
     )
 
 

@@ -162,7 +162,8 @@ def scene_to_toml_text(scene: Scene, toml_path=None, *, unit: str = "m", header:
         "spheres": [{"name": s.name, "center": s.center, "radius": s.radius, "material": mat_ref(s.material)}
                     for s in scene.spheres],
         "bubbles": [{"name": b.name, "center": b.center, "radius": b.radius, "n_film": b.n_film,
-                     "shininess": b.shininess, "film": _film_dict(b, i, save_array)}
+                     "shininess": b.shininess, **({} if b.film_model == "airy" else {"film_model": b.film_model}),
+                     "film": _film_dict(b, i, save_array)}
                     for i, b in enumerate(scene.bubbles)],
         "meshes": [{"name": m.name, "material": mat_ref(m.material),
                     "vertices": np.asarray(m.vertices, float), "faces": np.asarray(m.faces, int),

@@ -9,7 +9,9 @@ it answers the integrator's questions (:mod:`tracer.surfaces`):
   than its thickness and does not bend it), from the exact Airy sum of
   :mod:`bubbleoptics.kernels` for unpolarized light: at the band centres
   (:func:`~bubbleoptics.kernels.film_rt_nb`), or averaged over each band in closed form when
-  ``PackedScene.band_mode`` is 1 (:func:`~bubbleoptics.kernels.film_band_average_nb`);
+  ``PackedScene.band_mode`` is 1 (:func:`~bubbleoptics.kernels.film_band_average_nb`); or, for
+  a bubble whose ``film_model`` is ``"two-beam"``, from the coursework's two-beam formula
+  (:func:`~bubbleoptics.kernels.two_beam_r_nb`, at the band centres) with T = 1 - R;
 * **toward a light**: a Phong-lobe highlight :math:`R\\,(R\\cdot V)^{s}` in the mirror direction
   (s = the film's shininess; a point light has no extent, so this lobe stands in for the
   reflected image of a small source; a spherical light sums the lobes of its sample
@@ -51,9 +53,11 @@ from bubbleoptics.kernels import (
     free_film_evaluate_bands_nb,
     free_film_setup_bands_nb,
     normal_wavevector_nb,
+    two_beam_r_nb,
 )
 
 from ..films import film_thickness
+from ..layout import FILM_MODEL_TWO_BEAM
 
 __all__ = ["film_optics", "film_scatter", "film_toward_light", "film_shadow"]
 
@@ -90,6 +94,9 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
             T[c] = ft[b, c]
         return
     d_nm = film_thickness(f, scene.film_maps, n_out)
+    if f.model == FILM_MODEL_TWO_BEAM:
+        _two_beam_optics(scene, ws, b, d_nm, cos_i, R, T)
+        return
     band = scene.band_mode == 1
     lossless = f.lossless
     kq = ws.film_kq
@@ -141,6 +148,27 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
         for c in range(nc):
             fr[b, c] = R[c]
             ft[b, c] = T[c]
+
+
+@njit(**_INLINE)
+def _two_beam_optics(scene, ws, b, d_nm, cos_i, R, T):
+    """:func:`film_optics` for a film whose model is the coursework's two-beam formula:
+    :math:`R = \\min(1, 4R_{01}\\sin^2\\beta)` at each band centre (unpolarized; only Re n,
+    :func:`~bubbleoptics.kernels.two_beam_r_nb`), T = 1 - R (the formula gives no T; the
+    clip at 1 is where it would exceed 1, near grazing incidence).  No per-film cache beyond
+    the uniform film's R, T."""
+    f = scene.films[b]
+    wl = scene.wavelengths
+    fn = scene.film_n
+    for c in range(R.shape[0]):
+        r = min(1.0, two_beam_r_nb(wl[c], d_nm, cos_i, 1.0, complex(fn[b, c], 0.0), POL_UNPOLARIZED))
+        R[c] = r
+        T[c] = 1.0 - r
+    if f.uniform:
+        ws.film_rt_cos[b] = cos_i
+        for c in range(R.shape[0]):
+            ws.film_R[b, c] = R[c]
+            ws.film_T[b, c] = T[c]
 
 
 @njit(**_INLINE)
