@@ -221,7 +221,7 @@ def main(argv=None):
     write_csv(args.out, rows,
               provenance("benchmarks/optics_speed.py",
                          f"numba threads {os.environ.get('NUMBA_NUM_THREADS', 'default')}",
-                         f"machine load average {load_before} before, {load_after} after",
+                         f"machine load average {load_before} before, {load_after} after (this process at niceness {os.nice(0)})",
                          "min/max: fastest and slowest run; ratio_min/max: over paired runs, else the peer's "
                          "range over bubbleoptics' median",
                          "regenerate with: python benchmarks/optics_speed.py"),
