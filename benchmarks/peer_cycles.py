@@ -42,7 +42,9 @@ thin film) on an icosphere (20 * 4^6 triangles, radial normals), path tracing, 3
    in rounds (a Cycles process doing every sample count after a warm-up render, then ours),
    ``--repeats`` rounds; median and min-max of the wall times (Cycles: around
    ``bpy.ops.render.render``, scene already synced; ours: ``render_with_stats`` render
-   seconds).  Error: mean CIEDE2000 over the bubble against the reference.
+   seconds).  Error: mean CIEDE2000 over the bubble against the reference, and against each
+   renderer's own converged image (``own_bubble_mean``: Cycles' noise alone, without its
+   colour model; ours' converged image is the reference).
 
 Each phase holds ``/tmp/bubbleoptics-cpu.lock`` (``fcntl.flock``) while it runs and records
 the load average before and after.
@@ -408,7 +410,7 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=None, help=f"CSV to write (default {OUT.relative_to(ROOT)})")
     parser.add_argument("--cycles-python", default=None, help="the Cycles venv's python (default "
                         "$BUBBLEOPTICS_CYCLES_PYTHON or .venv-cycles/bin/python)")
-    parser.add_argument("--repeats", type=int, default=3, help="timing rounds")
+    parser.add_argument("--repeats", type=int, default=5, help="timing rounds")
     parser.add_argument("--no-lock", action="store_true", help=f"do not take {LOCK}")
     args = parser.parse_args(argv)
 
@@ -512,7 +514,7 @@ def main(argv=None):
     ref = stored[d]["ref"]
     print(f"\ntiming at {d:g} nm, {repeats} rounds:", flush=True)
     timings = {("cycles", s): [] for s in cyc_sweep} | {("ours", s): [] for s in ours_sweep}
-    errors = {}
+    errors, own = {}, {}
     for rnd in range(repeats):
         with cpu_lock(log, f"timing round {rnd + 1}", lock):
             renders = [(1, 500 + rnd)] + [(s, 1 + rnd) for s in cyc_sweep]
@@ -520,17 +522,21 @@ def main(argv=None):
             for s, img, r in zip(cyc_sweep, imgs[1:], report["renders"][1:]):
                 timings[("cycles", s)].append(r["seconds"])
                 errors.setdefault(("cycles", s), de_stats(img, ref, masks))
+                # against Cycles' own converged image: its noise alone, without its colour model
+                own.setdefault(("cycles", s), de_stats(img, stored[d]["cycles"], masks)["bubble_mean"])
             render_ours_defaults(scene, 1, 99, size)  # warm (numba cache, packing)
             for s in ours_sweep:
                 img, seconds = render_ours_defaults(scene, s, 1 + rnd, size)
                 timings[("ours", s)].append(seconds)
                 errors.setdefault(("ours", s), de_stats(img, ref, masks))
+                own.setdefault(("ours", s), errors[("ours", s)]["bubble_mean"])  # our converged image is the reference
     curves = {}
     for (renderer, s), ts in timings.items():
         row = dict(section="timing", thickness_nm=d, renderer=renderer,
                    setting="defaults" if renderer == "ours" else "path tracing", spp=s,
                    seconds=float(np.median(ts)), seconds_min=float(min(ts)), seconds_max=float(max(ts)),
-                   seconds_runs=" ".join(f"{t:.4f}" for t in ts), **errors[(renderer, s)])
+                   seconds_runs=" ".join(f"{t:.4f}" for t in ts), own_bubble_mean=own[(renderer, s)],
+                   **errors[(renderer, s)])
         add(**row)
         curves.setdefault(renderer, []).append((row["seconds"], row["bubble_mean"], row["seconds_min"],
                                                 row["seconds_max"]))
@@ -549,11 +555,24 @@ def main(argv=None):
                           seconds_ours=t_o, ratio=t_c / t_o if math.isfinite(t_o) else float("nan")))
         print(f"  equal error {e_c:.3f}: Cycles {t_c:.3f} s, ours {t_o:.4f} s, ratio "
               f"{equal[-1]['ratio']:.3g} {bound}", flush=True)
+    # the same against each renderer's own converged image (noise only)
+    own_o = [own[("ours", s)] for s in ours_sweep]
+    for s in cyc_sweep:
+        e_c, t_c = own[("cycles", s)], float(np.median(timings[("cycles", s)]))
+        t_o = time_at_error(ours_t, own_o, e_c)
+        bound = ""
+        if not math.isfinite(t_o) and e_c > max(own_o):
+            t_o, bound = min(ours_t), "ours' fastest setting already below this error: ratio is a lower bound"
+        equal.append(dict(section="equal_own_error", thickness_nm=d, renderer="cycles/ours",
+                          setting=bound or "interpolated", spp=s, target_bubble_mean=e_c, seconds_cycles=t_c,
+                          seconds_ours=t_o, ratio=t_c / t_o if math.isfinite(t_o) else float("nan")))
+        print(f"  equal error against own converged {e_c:.3f}: Cycles {t_c:.3f} s, ours {t_o:.4f} s, ratio "
+              f"{equal[-1]['ratio']:.3g} {bound}", flush=True)
     rows += equal
 
     columns = ["section", "thickness_nm", "renderer", "setting", "spp", "seconds", "seconds_min", "seconds_max",
                "seconds_runs", "rmse", "image_rms"]
-    columns += [f"{r}_{s}" for r in ("bubble", "edge", "all") for s in ("mean", "p95")]
+    columns += [f"{r}_{s}" for r in ("bubble", "edge", "all") for s in ("mean", "p95")] + ["own_bubble_mean"]
     columns += ["target_bubble_mean", "seconds_cycles", "seconds_cycles_min", "seconds_cycles_max", "seconds_ours",
                 "ratio"]
     import numba
