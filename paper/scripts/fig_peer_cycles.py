@@ -10,8 +10,9 @@ same figure.
 Left, one column per film thickness: (top) our reference (spectral, converged), (middle)
 Cycles (two seeds averaged), both in sRGB; (bottom) the per-pixel CIEDE2000 between them.
 Right: mean CIEDE2000 over the bubble against seconds per image for Cycles (1-256 spp) and our
-tracer at its defaults (1-16 spp), median of the runs with min-max bars, log-log; the dotted
-line is Cycles' own converged difference from the reference.
+tracer at its defaults (1-16 spp), median of the runs with min-max bars, log-log; dashed: Cycles
+against its own converged image (its noise alone); the dotted line is Cycles' converged
+difference from the reference.
 """
 
 import sys
@@ -82,6 +83,10 @@ def main(argv=None):
                     linewidth=1.0, elinewidth=0.7)
         for r, tk, ek in zip(curve, t, e):
             ax.annotate(r["spp"], (tk, ek), textcoords="offset points", xytext=(3, 3), fontsize=7, color=colors[ci])
+        if renderer == "cycles" and curve[0].get("own_bubble_mean"):
+            own = np.array([float(r["own_bubble_mean"]) for r in curve])
+            ax.plot(t, own, "--", marker="o", markersize=2.5, color=colors[ci], markerfacecolor="white",
+                    linewidth=0.8, label="Cycles vs its own converged image")
     if timing:
         d = float(timing[0]["thickness_nm"])
         floor = next((r for r in rows if r["section"] == "comparison" and r["renderer"] == "cycles"
@@ -96,7 +101,7 @@ def main(argv=None):
     ax.set_xlabel("seconds per image")
     ax.set_ylabel(r"mean $\Delta E_{00}$ over the bubble")
     ax.grid(True, which="major")
-    ax.legend(loc="upper right", frameon=False)
+    ax.legend(loc="lower left", frameon=False)
     for path in style.savefig(fig, "fig_peer_cycles"):
         print(f"wrote {path}")
     return 0

@@ -5,7 +5,6 @@ its own venv).  A plug-in of :mod:`make_numbers` (its ``SECTIONS`` format); a mi
 every number n/a.
 """
 
-import math
 import re
 
 from make_numbers import _date, read_commented_csv, significant
@@ -33,7 +32,8 @@ ORIENT = {"CyclesOrientEmptyMatched": "empty/matched", "CyclesOrientMirrorMatche
 TIMING = ("CyclesTimingThickness", "CyclesBestSpp", "CyclesBestSeconds", "CyclesBestSecondsMin", "CyclesBestSecondsMax",
           "CyclesBestError", "CyclesOursSeconds", "CyclesOursSecondsMin", "CyclesOursSecondsMax", "CyclesOursError",
           "CyclesOursBestSpp", "CyclesOursBestError", "CyclesTimeRatio", "CyclesSecondsPerSample",
-          "CyclesOursSecondsPerSample", "CyclesRounds")
+          "CyclesOursSecondsPerSample", "CyclesRounds", "CyclesBestOwnError", "CyclesOwnTimeRatio",
+          "CyclesOwnRatioQualifier", "CyclesRatioQualifier")
 HEAD = ("CyclesDate", "CyclesVersion", "CyclesSize", "CyclesRefSpp", "CyclesRefBands", "CyclesSpp", "CyclesTriangles",
         "CyclesBounces", "CyclesDepth", "CyclesEdgePx", "CyclesLoad", "CyclesFilmIndex", "CyclesWaterBlue",
         "CyclesWaterRed")
@@ -99,9 +99,16 @@ def cycles(dirs):
     out["CyclesOursError"] = significant(_f(first, "bubble_mean"), 2)
     out["CyclesOursBestSpp"] = ours[-1]["spp"]
     out["CyclesOursBestError"] = significant(_f(ours[-1], "bubble_mean"), 2)
-    ratio = _f(best, "seconds") / _f(first, "seconds")
-    if math.isfinite(ratio):
-        out["CyclesTimeRatio"] = significant(ratio, 2)
+    if best.get("own_bubble_mean"):
+        out["CyclesBestOwnError"] = significant(_f(best, "own_bubble_mean"), 2)
+    for section, ratio_name, word_name in (("equal_error", "CyclesTimeRatio", "CyclesRatioQualifier"),
+                                           ("equal_own_error", "CyclesOwnTimeRatio", "CyclesOwnRatioQualifier")):
+        equal = [r for r in rows if r["section"] == section]
+        if not equal:
+            continue
+        last = max(equal, key=lambda r: _f(r, "seconds_cycles"))  # Cycles' slowest, most converged point
+        out[ratio_name] = significant(_f(last, "ratio"), 2)
+        out[word_name] = "at least" if "lower bound" in last["setting"] else "about"
     out["CyclesSecondsPerSample"] = significant(_f(best, "seconds") / int(best["spp"]) * 1000.0, 2)
     out["CyclesOursSecondsPerSample"] = significant(_f(ours[-1], "seconds") / int(ours[-1]["spp"]) * 1000.0, 2)
     return out
