@@ -66,8 +66,8 @@ def cycles(dirs):
 
     out["CyclesWaterBlue"] = f"{float(water_refractive_index(400.0)):.3f}"
     out["CyclesWaterRed"] = f"{float(water_refractive_index(700.0)):.3f}"
-    loads = [float(v) for v in re.findall(r"load ([0-9.]+) -> ", text)] + \
-            [float(v) for v in re.findall(r" -> ([0-9.]+),", text)]
+    # the load average before and after each timing round
+    loads = [float(v) for pair in re.findall(r"timing round \d+: load ([0-9.]+) -> ([0-9.]+)", text) for v in pair]
     if loads:
         out["CyclesLoad"] = f"{min(loads):.1f}--{max(loads):.1f}"
     for name, setting in ORIENT.items():
