@@ -74,3 +74,20 @@ clean-cache:
 clean: clean-cache
 	-$(MAKE) -C paper clean
 	rm -rf $(VENV) build *.egg-info demo-output
+
+## make peers: Blender's Cycles for the peer benchmark, in its own venv .venv-cycles (bpy 5.0.1
+## needs numpy < 2, this project numpy >= 2, so it cannot be an extra; docs/peers.md). ~370 MB.
+CYCLES_VENV ?= .venv-cycles
+CYCLES_BASE_PYTHON ?= python3.11  # bpy 5.0.1 wheels exist for Python 3.11 only
+peers: $(CYCLES_VENV)/bin/python
+	@$(CYCLES_VENV)/bin/python -c "import bpy; print('bpy', bpy.app.version_string)"
+
+$(CYCLES_VENV)/bin/python:
+	$(CYCLES_BASE_PYTHON) -m venv $(CYCLES_VENV)
+	$(CYCLES_VENV)/bin/pip install --quiet bpy==5.0.1
+
+## make bench-peers: our tracer against Cycles (data/derived/peer_cycles*.csv/.npz; ~15 minutes).
+bench-peers: $(STAMP) peers
+	BUBBLEOPTICS_CYCLES_PYTHON=$(CURDIR)/$(CYCLES_VENV)/bin/python $(PY) benchmarks/peer_cycles.py
+
+.PHONY: peers bench-peers

@@ -1,0 +1,117 @@
+"""The numbers of the section "An independent renderer" (``paper/sections/peer_cycles.tex``).
+
+Read from ``data/derived/peer_cycles.csv`` (``benchmarks/peer_cycles.py``, Blender's Cycles in
+its own venv).  A plug-in of :mod:`make_numbers` (its ``SECTIONS`` format); a missing file makes
+every number n/a.
+"""
+
+import re
+
+from make_numbers import _date, read_commented_csv, significant
+
+THICKNESS_WORDS = {10.0: "Ten", 200.0: "TwoHundred", 400.0: "FourHundred", 800.0: "EightHundred"}
+
+#: (macro stem, section, setting prefix, renderer or None)
+COMPARISONS = (
+    ("CyclesDe", "comparison", "mean of two seeds", "cycles"),
+    ("CyclesNoise", "comparison", "own noise", "cycles"),
+    ("CyclesRefNoise", "comparison", "reference noise", "ours"),
+    ("CyclesOursDefaults", "comparison", "defaults", "ours"),
+    ("CyclesDispersion", "comparison", "dispersion", "ours"),
+    ("CyclesDecompCheck", "decomposition", "model check", None),
+    ("CyclesDecompCut", "decomposition", "series cut", None),
+    ("CyclesDecompColour", "decomposition", "colour model", None),
+    ("CyclesDecompModel", "decomposition", "total model", None),
+    ("CyclesDecompRest", "decomposition", "table and the rest", None),
+)
+#: the statistics quoted: (suffix, column)
+STATS = (("", "bubble_mean"), ("Pninetyfive", "bubble_p95"), ("Edge", "edge_mean"), ("All", "all_mean"))
+ORIENT = {"CyclesOrientEmptyMatched": "empty/matched", "CyclesOrientMirrorMatched": "mirror/matched",
+          "CyclesOrientMirrorFlipped": "mirror/flipped", "CyclesOrientMirrorTilted": "mirror/tilted",
+          "CyclesOrientEmptyFlipped": "empty/flipped", "CyclesOrientEmptyTilted": "empty/tilted"}
+TIMING = ("CyclesTimingThickness", "CyclesBestSpp", "CyclesBestSeconds", "CyclesBestSecondsMin", "CyclesBestSecondsMax",
+          "CyclesBestError", "CyclesOursSeconds", "CyclesOursSecondsMin", "CyclesOursSecondsMax", "CyclesOursError",
+          "CyclesOursBestSpp", "CyclesOursBestError", "CyclesTimeRatio", "CyclesSecondsPerSample",
+          "CyclesOursSecondsPerSample", "CyclesRounds", "CyclesBestOwnError", "CyclesOwnTimeRatio",
+          "CyclesOwnRatioQualifier", "CyclesRatioQualifier")
+HEAD = ("CyclesDate", "CyclesVersion", "CyclesSize", "CyclesRefSpp", "CyclesRefBands", "CyclesSpp", "CyclesTriangles",
+        "CyclesBounces", "CyclesDepth", "CyclesEdgePx", "CyclesLoad", "CyclesFilmIndex", "CyclesWaterBlue",
+        "CyclesWaterRed")
+
+MACROS = list(HEAD) + list(ORIENT) + list(TIMING) + [f"CyclesThick{word}" for word in THICKNESS_WORDS.values()]
+MACROS += [f"{stem}{suffix}{word}" for stem, *_ in COMPARISONS for suffix, _ in STATS
+           for word in THICKNESS_WORDS.values()]
+
+
+def _f(row, column):
+    return float(row[column])
+
+
+def cycles(dirs):
+    notes, rows = read_commented_csv(dirs["derived"] / "peer_cycles.csv")
+    text = " ".join(notes)
+    out = {"CyclesDate": _date(notes)}
+    for name, pattern in (("CyclesVersion", r"Blender (\d+(?:\.\d+)+)"), ("CyclesSize", r"(\d+)x\1, box"),
+                          ("CyclesRefBands", r"ours spectral (\d+) bands"), ("CyclesRefSpp", r"\), (\d+) spp, mean"),
+                          ("CyclesSpp", r"mean of two seeds at (\d+) spp"),
+                          ("CyclesTriangles", r"icosphere of (\d+) triangles"), ("CyclesBounces", r"(\d+) bounces"),
+                          ("CyclesDepth", r"depth (\d+);"), ("CyclesEdgePx", r"silhouette by > ([0-9.]+) px"),
+                          ("CyclesRounds", r"(\d+) interleaved rounds"),
+                          ("CyclesFilmIndex", r"uniform film n = ([0-9.]+)")):
+        m = re.search(pattern, text)
+        if m:
+            value = m.group(1)
+            out[name] = f"{int(value):,}".replace(",", "\\,") if name == "CyclesTriangles" else value
+    from bubbleoptics import water_refractive_index
+
+    out["CyclesWaterBlue"] = f"{float(water_refractive_index(400.0)):.3f}"
+    out["CyclesWaterRed"] = f"{float(water_refractive_index(700.0)):.3f}"
+    # the load average before and after each timing round
+    loads = [float(v) for pair in re.findall(r"timing round \d+: load ([0-9.]+) -> ([0-9.]+)", text) for v in pair]
+    if loads:
+        out["CyclesLoad"] = f"{min(loads):.1f}--{max(loads):.1f}"
+    for name, setting in ORIENT.items():
+        row = next(r for r in rows if r["section"] == "orientation" and r["setting"] == setting)
+        out[name] = significant(_f(row, "all_mean"), 2)
+    for stem, section, prefix, renderer in COMPARISONS:
+        for row in rows:
+            if row["section"] != section or not row["setting"].startswith(prefix):
+                continue
+            if renderer and row["renderer"] != renderer:
+                continue
+            word = THICKNESS_WORDS.get(float(row["thickness_nm"]))
+            if word is None:
+                continue
+            out[f"CyclesThick{word}"] = f"{float(row['thickness_nm']):g}"
+            for suffix, column in STATS:
+                out[f"{stem}{suffix}{word}"] = significant(_f(row, column), 2)
+    timing = [r for r in rows if r["section"] == "timing"]
+    cyc = sorted((r for r in timing if r["renderer"] == "cycles"), key=lambda r: int(r["spp"]))
+    ours = sorted((r for r in timing if r["renderer"] == "ours"), key=lambda r: int(r["spp"]))
+    best, first = cyc[-1], ours[0]
+    out["CyclesTimingThickness"] = f"{float(best['thickness_nm']):g}"
+    out["CyclesBestSpp"] = best["spp"]
+    for name, row in (("CyclesBest", best), ("CyclesOurs", first)):
+        out[f"{name}Seconds"] = significant(_f(row, "seconds"), 2)
+        out[f"{name}SecondsMin"] = significant(_f(row, "seconds_min"), 2)
+        out[f"{name}SecondsMax"] = significant(_f(row, "seconds_max"), 2)
+    out["CyclesBestError"] = significant(_f(best, "bubble_mean"), 2)
+    out["CyclesOursError"] = significant(_f(first, "bubble_mean"), 2)
+    out["CyclesOursBestSpp"] = ours[-1]["spp"]
+    out["CyclesOursBestError"] = significant(_f(ours[-1], "bubble_mean"), 2)
+    if best.get("own_bubble_mean"):
+        out["CyclesBestOwnError"] = significant(_f(best, "own_bubble_mean"), 2)
+    for section, ratio_name, word_name in (("equal_error", "CyclesTimeRatio", "CyclesRatioQualifier"),
+                                           ("equal_own_error", "CyclesOwnTimeRatio", "CyclesOwnRatioQualifier")):
+        equal = [r for r in rows if r["section"] == section]
+        if not equal:
+            continue
+        last = max(equal, key=lambda r: _f(r, "seconds_cycles"))  # Cycles' slowest, most converged point
+        out[ratio_name] = significant(_f(last, "ratio"), 2)
+        out[word_name] = "at least" if "lower bound" in last["setting"] else "about"
+    out["CyclesSecondsPerSample"] = significant(_f(best, "seconds") / int(best["spp"]) * 1000.0, 2)
+    out["CyclesOursSecondsPerSample"] = significant(_f(ours[-1], "seconds") / int(ours[-1]["spp"]) * 1000.0, 2)
+    return out
+
+
+SECTIONS = {"cycles": (["derived/peer_cycles.csv"], cycles, MACROS)}
