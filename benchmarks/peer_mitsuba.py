@@ -361,6 +361,29 @@ def threads_note():
             f"(layer {numba.config.THREADING_LAYER}), drjit {dr.__version__} with {dr.thread_count()} threads")
 
 
+#: The oldest LLVM whose code generator handles Dr.Jit 1.5's kernels: with Debian 12's LLVM 14 or
+#: 15 the LLVM variant aborts the process ("Cannot select: ... fminimum"), found on 2026-12-02.
+MIN_LLVM = 16
+
+
+def _choose_libllvm():
+    """Point Dr.Jit at the newest system ``libLLVM-N.so`` (N >= MIN_LLVM) unless
+    ``DRJIT_LIBLLVM_PATH`` is set: left to itself it may load an older one that aborts."""
+    if os.environ.get("DRJIT_LIBLLVM_PATH"):
+        return
+    import glob
+    import re
+
+    found = []
+    for path in glob.glob("/usr/lib/x86_64-linux-gnu/libLLVM-*.so") + glob.glob("/usr/lib/llvm-*/lib/libLLVM.so"):
+        m = re.search(r"(?:libLLVM-|llvm-)(\d+)", path)
+        if m and int(m.group(1)) >= MIN_LLVM:
+            found.append((int(m.group(1)), path))
+    if found:
+        os.environ["DRJIT_LIBLLVM_PATH"] = max(found)[1]
+        print(f"Dr.Jit's LLVM: {max(found)[1]}", file=sys.stderr)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="64x64, low sample counts, one repeat (smoke test)")
@@ -374,6 +397,7 @@ def main(argv=None):
                         help="stop the Mitsuba reference after this many seconds (an even number of passes)")
     args = parser.parse_args(argv)
 
+    _choose_libllvm()
     try:
         import drjit as dr  # noqa: F401
         import mitsuba as mi

@@ -832,6 +832,13 @@ def peer(dirs):
         for key, curve in curves.items():
             t = time_at_error([float(r["seconds"]) for r in curve], [float(r[metric]) for r in curve], target)
             out[f"Peer{tag}{key}"] = significant(t, 2)
+    # Mitsuba's best (LLVM, stratified) against ours, at the RMSE target: ratios of the times
+    for key in ("OursExhaustive", "OursPruned"):
+        t_ours = time_at_error([float(r["seconds"]) for r in curves[key]], [float(r["rmse"]) for r in curves[key]],
+                               float(four["rmse"]))
+        t_mi = time_at_error([float(r["seconds"]) for r in curves["MitsubaStratified"]],
+                             [float(r["rmse"]) for r in curves["MitsubaStratified"]], float(four["rmse"]))
+        out[f"PeerRatioRmse{key}"] = significant(t_mi / t_ours, 2)
     # what the curves are made of: seconds per sample per pixel, and samples needed for the target
     per_spp = {k: float(c[-1]["seconds"]) / int(c[-1]["spp"]) for k, c in curves.items()}
     out["PeerSampleCostRatio"] = significant(per_spp["OursExhaustive"] / per_spp["MitsubaStratified"], 2)
@@ -844,7 +851,7 @@ def peer(dirs):
 
 PEER_MACROS = (
     ["PeerDate", "PeerVersion", "PeerSize", "PeerDepth", "PeerTargetSpp", "PeerGlassIndex", "PeerPrunedThreshold",
-     "PeerCleanSharePercent", "PeerSpreadMedianPercent",
+     "PeerCleanSharePercent", "PeerSpreadMedianPercent", "PeerRatioRmseOursExhaustive", "PeerRatioRmseOursPruned",
      "PeerRefSpp", "PeerOursRefSpp", "PeerFloorRmse", "PeerFloorDe", "PeerTargetRmse", "PeerTargetDe",
      "PeerSampleCostRatio", "PeerSampleCountRatio",
      "PeerMitsubaSppNeeded"]
