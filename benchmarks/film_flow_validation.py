@@ -7,7 +7,7 @@ black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film
 
 The checks are those of ``tests/test_film_flow.py``, computed by the same helpers (both import
 them from :mod:`bubbleoptics.study.film_flow`: ``plug_equilibrium_error``,
-``rigid_characteristics_profile``, ``coarsen_cells``), on more grids:
+``rigid_characteristics_profile``, ``plug_transient_differences``), on more grids:
 
 * ``apex``: rigid drainage from a uniform film, steps of τ/20 to 10τ; the largest relative error
   of the top cell row against :math:`h_0(1 + t/\\tau)^{-1/2}` for t in [τ, 10τ], on 16-128 rows;
@@ -49,7 +49,7 @@ ROOT = Path(__file__).resolve().parents[1]
 from bubbleoptics.filmflow import FilmGrid, FilmParameters, PlugFlow, RigidDrainage
 from bubbleoptics.study import film_flow as ff
 from bubbleoptics.study import provenance, write_csv
-from bubbleoptics.study.film_flow import STILL, coarsen_cells, plug_equilibrium_error, rigid_characteristics_profile
+from bubbleoptics.study.film_flow import STILL, plug_equilibrium_error, plug_transient_differences, rigid_characteristics_profile
 
 OUT = ROOT / "data" / "derived" / "film_flow_validation.csv"
 BLACK_NM = 30.0  # "black film": thinner than this (issue 11, as notebook 07)
@@ -97,16 +97,7 @@ def equilibrium_errors(rows_list):
 
 
 def transient_differences(rows_list):
-    p = FilmParameters(evaporation=0.0, perturbation=0.1)
-    fields = {}
-    for n in rows_list:
-        g = FilmGrid(n, 2 * n, p.radius)
-        m = PlugFlow(p, g)
-        s = m.initial_state(3)
-        for _ in range(20):
-            s = m.step(s, 0.0025)
-        fields[n] = (g, s.h)
-    return {n: float(np.abs(fields[n][1] - coarsen_cells(*fields[2 * n])).max() / p.h0) for n in rows_list[:-1]}
+    return plug_transient_differences(rows_list)
 
 
 def conservation(quick):
