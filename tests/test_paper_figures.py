@@ -97,12 +97,11 @@ def test_figure_scripts_exist():
 
 @pytest.fixture(scope="module")
 def quick_figures(tmp_path_factory):
-    """(folder, finished process) of one ``make_figures.py --quick`` into a temporary folder."""
-    out = tmp_path_factory.mktemp("quick") / "figures"  # does not exist yet: created on demand
-    proc = subprocess.run([sys.executable, str(SCRIPTS / "make_figures.py"), "--quick"], env=_env(out),
-                          capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    return out, proc
+    """(folder, output) of the session's one ``make_figures.py --quick`` into a temporary folder
+    (:func:`paper_helpers.quick_figures`, shared with tests/test_paper.py)."""
+    out, returncode, output = paper_helpers.quick_figures(tmp_path_factory)
+    assert returncode == 0, output[-4000:]
+    return out, output
 
 
 @pytest.mark.api
@@ -114,10 +113,10 @@ def test_make_figures_quick_writes_every_figure(quick_figures):
     for name in sorted(expected):
         path = out / name
         assert path.stat().st_size > 0
-        assert f"wrote {path}" in proc.stdout, f"{name} not reported"
+        assert f"wrote {path}" in proc, f"{name} not reported"
         (_assert_pdf if name.endswith(".pdf") else _assert_png)(path)
     assert not any(p.name.endswith(".tmp") for p in out.iterdir())
-    assert f"{len(FIGURE_SCRIPTS)} figure script(s) done" in proc.stdout
+    assert f"{len(FIGURE_SCRIPTS)} figure script(s) done" in proc
 
 
 def test_slots_reads_the_environments():
