@@ -180,9 +180,8 @@ def main(argv=None):
 
     encode_per_frame = statistics.median(enc) / n_frames  # of the measured movie
     for w in (8, 64, 512):
-        seconds, frame, rounds = model_movie_seconds(w, statistics.median(cpu), o_med, startup, encode_per_frame,
-                                                     size * size)
-        encode_model = seconds - rounds * (frame + o_med) - startup
+        seconds, frame, rounds, encode_model = model_movie_seconds(w, statistics.median(cpu), o_med, startup,
+                                                                   encode_per_frame, size * size)
         rows.append(dict(case="model 3840x2160 64spp 1440 frames", workers=w, threads=1, frames=MODEL["frames"],
                          width=MODEL["width"], height=MODEL["height"], frame_compute_seconds=frame,
                          overhead_per_frame_seconds=o_med, overhead_fraction=o_med / frame,

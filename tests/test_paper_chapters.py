@@ -128,7 +128,7 @@ def test_movie_model_matches_a_literal_evaluation_and_the_benchmark_rows():
             wall += frame + overhead
             left -= min(workers, left)
         wall += m["frames"] * encode * m["width"] * m["height"] / pixels
-        seconds, frame_s, rounds = model_movie_seconds(workers, cpu, overhead, startup, encode, pixels)
+        seconds, frame_s, rounds, _ = model_movie_seconds(workers, cpu, overhead, startup, encode, pixels)
         assert seconds == pytest.approx(wall, rel=1e-12)
         assert frame_s == pytest.approx(frame, rel=1e-12)
         assert rounds == math.ceil(m["frames"] / workers)

@@ -42,7 +42,7 @@ MODEL_MOVIE = dict(width=3840, height=2160, spp=64, frames=24 * 60)
 
 def model_movie_seconds(workers, frame_cpu_seconds, overhead_seconds, startup_seconds, encode_seconds_per_frame,
                         measured_pixels, model=MODEL_MOVIE):
-    """``(wall seconds, seconds a frame, rounds)`` of *model* on *workers* one-core workers.
+    """``(wall seconds, seconds a frame, rounds, encoder seconds)`` of *model* on *workers* one-core workers.
 
     A cost model, not a measurement: a frame costs the measured one-thread CPU time of a
     *measured_pixels*-pixel, one-sample frame scaled by pixels x samples (camera rays dominate),
@@ -50,7 +50,7 @@ def model_movie_seconds(workers, frame_cpu_seconds, overhead_seconds, startup_se
     ``ceil(frames / workers)`` rounds; the cluster starts once; one encoder runs at the end at
     the measured speed (*encode_seconds_per_frame*) scaled by pixels.
 
-    >>> seconds, frame, rounds = model_movie_seconds(512, 0.27, 0.008, 1.5, 0.016, 480 * 480)
+    >>> seconds, frame, rounds, encode = model_movie_seconds(512, 0.27, 0.008, 1.5, 0.016, 480 * 480)
     >>> rounds
     3
     """
@@ -58,7 +58,7 @@ def model_movie_seconds(workers, frame_cpu_seconds, overhead_seconds, startup_se
     frame = frame_cpu_seconds * scale
     encode = encode_seconds_per_frame * model["width"] * model["height"] / measured_pixels * model["frames"]
     rounds = math.ceil(model["frames"] / workers)
-    return rounds * (frame + overhead_seconds) + startup_seconds + encode, frame, rounds
+    return rounds * (frame + overhead_seconds) + startup_seconds + encode, frame, rounds, encode
 
 
 def local_cluster(workers: int):

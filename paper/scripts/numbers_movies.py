@@ -34,6 +34,13 @@ def _tiles_per_worker():
     return TILES_PER_WORKER
 
 
+def _median_and_range(name, row, columns, scale, units):
+    """``{NAME+unit: median, NAME+Min+unit: min, NAME+Max+unit: max}`` of *row*'s three *columns*
+    (median, min, max) times *scale*, two significant digits."""
+    return {f"{name}{tag}{unit}": significant(scale * float(row[column]), 2)
+            for tag, column, unit in zip(("", "Min", "Max"), columns, units)}
+
+
 def movies(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "movie.csv")
     from tracer.cluster import MODEL_MOVIE, model_movie_seconds
@@ -49,33 +56,22 @@ def movies(dirs):
     out = {
         "MovieDate": _date(notes), "MovieMachine": _machine(notes),
         "MovieFrames": str(frames), "MovieSize": str(size), "MovieWorkers": str(int(f(dask, "workers"))),
-        "MovieSerialS": significant(f(serial, "seconds_median"), 2),
-        "MovieSerialMin": significant(f(serial, "seconds_min"), 2),
-        "MovieSerialMax": significant(f(serial, "seconds_max"), 2),
-        "MovieDaskS": significant(f(dask, "seconds_median"), 2),
-        "MovieDaskMin": significant(f(dask, "seconds_min"), 2),
-        "MovieDaskMax": significant(f(dask, "seconds_max"), 2),
         "MovieSerialFps": significant(f(serial, "frames_per_second"), 2),
         "MovieDaskFps": significant(f(dask, "frames_per_second"), 2),
         "MovieEncodeShare": significant(100 * f(serial, "encode_share"), 2),
         "MovieFrameCpuS": significant(f(dask, "frame_cpu_seconds"), 2),
         "MovieFrameComputeS": significant(f(dask, "frame_compute_seconds"), 2),
-        "MovieOverheadMs": significant(1e3 * f(dask, "overhead_per_frame_seconds"), 2),
-        "MovieOverheadMinMs": significant(1e3 * f(dask, "overhead_min"), 2),
-        "MovieOverheadMaxMs": significant(1e3 * f(dask, "overhead_max"), 2),
         "MovieOverheadPercent": significant(100 * f(dask, "overhead_fraction"), 2),
         "MovieStartupS": significant(f(dask, "cluster_startup_seconds"), 2),
         "MovieFirstFrameS": significant(f(dask, "first_frame_seconds"), 2),
         "MovieTileWidth": str(int(f(here, "width"))), "MovieTileHeight": str(int(f(here, "height"))),
-        "MovieImageHereS": significant(f(here, "seconds_median"), 2),
-        "MovieImageHereMin": significant(f(here, "seconds_min"), 2),
-        "MovieImageHereMax": significant(f(here, "seconds_max"), 2),
-        "MovieImageTilesS": significant(f(tiles, "seconds_median"), 2),
-        "MovieImageTilesMin": significant(f(tiles, "seconds_min"), 2),
-        "MovieImageTilesMax": significant(f(tiles, "seconds_max"), 2),
         "MovieTileSpp": str(_tile_image()["spp"]),
         "MovieTilesPerWorker": str(_tiles_per_worker()),
     }
+    for name, row in (("MovieSerial", serial), ("MovieDask", dask), ("MovieImageHere", here), ("MovieImageTiles", tiles)):
+        out.update(_median_and_range(name, row, ("seconds_median", "seconds_min", "seconds_max"), 1.0, ("S", "", "")))
+    out.update(_median_and_range("MovieOverhead", dask, ("overhead_per_frame_seconds", "overhead_min", "overhead_max"),
+                                 1e3, ("Ms", "Ms", "Ms")))
     load = re.search(r"load average ([0-9.]+) before, ([0-9.]+) after", notes[0])
     if load:
         out["MovieLoadBefore"], out["MovieLoadAfter"] = load.group(1), load.group(2)
@@ -90,9 +86,10 @@ def movies(dirs):
     stored = {int(f(r, "workers")): r for r in rows if r["case"].startswith("model ")}
     encode_per_frame = f(dask, "encode_seconds_median") / frames
     for w in MODEL_WORKERS:
-        seconds, frame, rounds = model_movie_seconds(w, f(dask, "frame_cpu_seconds"),
-                                                     f(dask, "overhead_per_frame_seconds"),
-                                                     f(dask, "cluster_startup_seconds"), encode_per_frame, size * size)
+        seconds, frame, rounds, encode = model_movie_seconds(w, f(dask, "frame_cpu_seconds"),
+                                                             f(dask, "overhead_per_frame_seconds"),
+                                                             f(dask, "cluster_startup_seconds"), encode_per_frame,
+                                                             size * size)
         if abs(seconds / f(stored[w], "seconds_median") - 1) > 0.01:
             raise ValueError(f"the model for {w} workers gives {seconds:.4g} s, the CSV {stored[w]['seconds_median']}")
         word = _WORDS[w]
@@ -104,8 +101,7 @@ def movies(dirs):
             idle = rounds * w - model["frames"]  # workers without a frame in the last round
             out["MovieModelIdleLast"] = str(idle)
             out["MovieModelIdlePercent"] = significant(100 * idle / w, 2)
-            out["MovieModelEncodeShare"] = significant(100 * encode_per_frame * model["width"] * model["height"]
-                                                       / (size * size) * model["frames"] / seconds, 2)
+            out["MovieModelEncodeShare"] = significant(100 * encode / seconds, 2)
         if w == MODEL_WORKERS[0]:
             out["MovieModelFrameMin"] = significant(frame / 60, 2)
     return out
