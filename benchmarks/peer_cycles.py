@@ -209,15 +209,12 @@ def de_stats(image, reference, masks):
 def airy_cut(a, b, delta, m_max):
     """Reflectance |r|^2 of r = (a + b e^{i delta}) / (1 + a b e^{i delta}) (two interfaces of
     real amplitude reflectances *a*, *b* and round-trip phase *delta*) as its Fourier series in
-    delta, C_0 + 2 sum_{m=1}^{m_max} C_m cos(m delta), cut after *m_max* (``None``: all terms,
-    the exact value).  With rho = -a b and g = b (1 - a^2): C_0 = a^2 + g^2 / (1 - rho^2),
+    delta, C_0 + 2 sum_{m=1}^{m_max} C_m cos(m delta), cut after *m_max* (the exact value is
+    :func:`bubbleoptics.film_reflectance`).  With rho = -a b and g = b (1 - a^2): C_0 = a^2 + g^2 / (1 - rho^2),
     C_m = rho^(m-1) (a g + g^2 rho / (1 - rho^2)) (expand 1 / (1 + a b e^{i delta}) as a
     geometric series and collect the terms of e^{i m delta}); Belcour & Barla's eq. 10 is the
     same series."""
     a, b, delta = np.broadcast_arrays(*(np.asarray(v, float) for v in (a, b, delta)))
-    if m_max is None:
-        z = np.exp(1j * delta)
-        return np.abs((a + b * z) / (1.0 + a * b * z)) ** 2
     rho = -a * b
     g = b * (1.0 - a * a)
     c0 = a * a + g * g / (1.0 - rho * rho)
@@ -231,7 +228,11 @@ def airy_cut(a, b, delta, m_max):
 def free_film_reflectance(wavelength_nm, thickness_nm, cos0, n_film, m_max=None):
     """Unpolarised reflectance of a free-standing film (air | n_film | air), real index, through
     :func:`airy_cut` per polarisation (s and p Fresnel amplitudes of air -> film; film -> air is
-    their negative).  ``m_max=None`` is exact (equals ``bubbleoptics.film_reflectance``)."""
+    their negative).  ``m_max=None`` is exact: :func:`bubbleoptics.film_reflectance` itself."""
+    if m_max is None:
+        import bubbleoptics as bo
+
+        return bo.film_reflectance(wavelength_nm, thickness_nm, np.arccos(np.clip(cos0, -1.0, 1.0)), n_film)
     wl = np.asarray(wavelength_nm, float)
     n = np.asarray(n_film, float)
     cos0 = np.asarray(cos0, float)
