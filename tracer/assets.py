@@ -18,6 +18,7 @@ import numpy as np
 
 from bubbleoptics.colorimetry import srgb_to_linear_srgb
 
+from .file_access import ANYWHERE, FileAccess, FileAccessError
 from .limits import MAX_MAGNITUDE
 
 __all__ = ["AssetError", "IMAGE_SUFFIXES", "load_environment_image", "load_film_map", "load_mesh_file"]
@@ -75,7 +76,7 @@ def load_film_series(full: Path):
         raise AssetError(f"cannot read '{full.name}' as a thickness series ({type(exc).__name__}: {exc})") from None
 
 
-def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+def load_mesh_file(full: Path, access: FileAccess = ANYWHERE) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """Vertices (V, 3) float64, 0-based faces (F, 3) int64 and vertex normals (V, 3) float64 or
     ``None`` of a mesh file, read by trimesh.
 
@@ -88,13 +89,27 @@ def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | Non
     computed ones, and how they are told apart here.  ``trimesh.load(force="mesh")`` would drop
     them.)  Nothing is copied that need not be: a 1M-triangle binary PLY is read into the
     arrays trimesh makes.
+
+    Under a confined *access* (:class:`tracer.file_access.FileAccess` with a root: the scene
+    editor) the file's bytes are read first, within its size limit, and trimesh decodes them
+    from memory with no resolver, so that a file naming other files (an OBJ's ``mtllib``, a
+    glTF's external buffers) cannot make it read anything else.
     """
     try:
         import trimesh
     except ImportError:
         raise AssetError("reading mesh files needs the 'trimesh' package (pip install trimesh)") from None
     try:
-        loaded = trimesh.load_scene(str(full), process=False)
+        if access.confined:
+            import io
+
+            data = _read(full, access)
+            source = dict(file_obj=io.BytesIO(data), file_type=full.suffix.lower().lstrip("."))
+        else:
+            source = dict(file_obj=str(full))
+        loaded = trimesh.load_scene(**source, process=False)
+    except AssetError:
+        raise
     except Exception as exc:  # trimesh raises many kinds for unreadable files
         raise AssetError(f"cannot read mesh '{full.name}': {exc}") from None
     parts = []
@@ -143,15 +158,69 @@ def load_mesh_file(full: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | Non
         (None if normals is None else np.ascontiguousarray(normals))
 
 
-def load_environment_image(full: Path) -> np.ndarray:
+def _read(full: Path, access: FileAccess) -> bytes:
+    try:
+        return access.read_bytes(full, shown=full.name)
+    except FileAccessError as exc:
+        raise AssetError(str(exc)) from None
+
+
+def _radiance_size(full: Path):
+    """(width, height) from a Radiance ``.hdr`` header (its resolution line, ``-Y H +X W``)."""
+    import re
+
+    with open(full, "rb") as fh:
+        head = fh.read(65536)
+    m = re.search(rb"\n\n([-+][XY]) (\d+) ([-+][XY]) (\d+)", head)
+    if not m:
+        raise AssetError(f"cannot read image '{full.name}': no Radiance resolution line")
+    first, a, _, b = m.groups()
+    return (int(b), int(a)) if first.endswith(b"Y") else (int(a), int(b))
+
+
+def image_size(full: Path):
+    """An environment image's (width, height), read from its header without decoding it."""
+    suffix = full.suffix.lower()
+    try:
+        if suffix == ".npy":
+            shape = np.load(full, mmap_mode="r", allow_pickle=False).shape
+            return (shape[1], shape[0]) if len(shape) >= 2 else (shape[0] if shape else 1, 1)
+        if suffix in (".png", ".jpg", ".jpeg"):
+            from PIL import Image
+
+            with Image.open(full) as im:
+                return im.size
+        if suffix == ".hdr":
+            return _radiance_size(full)
+        import OpenEXR
+
+        with OpenEXR.File(str(full), header_only=True) as f:
+            (x0, y0), (x1, y1) = f.header()["dataWindow"]
+            return int(x1) - int(x0) + 1, int(y1) - int(y0) + 1
+    except AssetError:
+        raise
+    except Exception as exc:
+        raise AssetError(f"cannot read image '{full.name}': {exc}") from None
+
+
+def load_environment_image(full: Path, access: FileAccess = ANYWHERE) -> np.ndarray:
     """An equirectangular environment image as linear RGB float32 (H, W, 3), values finite and >= 0.
 
     8-bit PNG and JPEG are sRGB, decoded with :func:`bubbleoptics.colorimetry.srgb_to_linear_srgb`;
-    ``.npy``, ``.hdr`` and ``.exr`` are linear already (:data:`IMAGE_SUFFIXES`).
+    ``.npy``, ``.hdr`` and ``.exr`` are linear already (:data:`IMAGE_SUFFIXES`).  When *access*
+    limits the pixels of an image (:class:`tracer.file_access.FileAccess`), the size is read
+    from the file's header (:func:`image_size`) and checked before anything is decoded: a small
+    compressed file can hold a huge image.
     """
     suffix = full.suffix.lower()
     if suffix not in IMAGE_SUFFIXES:
         raise AssetError(f"unsupported image type '{suffix}' (supported: {', '.join(IMAGE_SUFFIXES)})")
+    try:
+        access.check_file(full, shown=full.name)
+        if access.max_pixels is not None:
+            access.check_pixels(*image_size(full), full.name)
+    except FileAccessError as exc:
+        raise AssetError(str(exc)) from None
     if suffix == ".npy":
         img = _load_npy(full)
         if img.dtype.kind != "f":

@@ -47,6 +47,7 @@ from .scene import (
     Scene,
     Sphere,
 )
+from .file_access import ANYWHERE, FileAccess, check_name
 from .scene_text import read_scene_text
 
 __all__ = ["load_coursework_scene", "parse_coursework_text", "srgb8_to_linear", "CONCENTRIC_RTOL"]
@@ -265,6 +266,10 @@ def parse_coursework_text(lines, path="<string>") -> Scene:
         else:
             if not name:
                 raise r.error(tag_line, f"a {kind} needs a name: '{tag} NAME'")
+            try:
+                check_name(name, f"the {kind}'s name")
+            except ValueError as exc:
+                raise r.error(tag_line, str(exc)) from None
             blk.label = f"{kind} '{_short(name)}'"
             if kind == "sphere":
                 scene.spheres.append(_sphere(blk, name))
@@ -370,7 +375,8 @@ def _mesh(blk: _Block, name: str, tag_line: int) -> Mesh:
     return Mesh(vertices=verts, faces=tri[keep], material=material, name=name)
 
 
-def load_coursework_scene(path) -> Scene:
-    """Read a coursework-format scene file; raises SceneError('FILE:LINE: ...') on any problem."""
+def load_coursework_scene(path, access: FileAccess = ANYWHERE) -> Scene:
+    """Read a coursework-format scene file; raises SceneError('FILE:LINE: ...') on any problem
+    (*access*: :func:`tracer.scene_text.read_scene_text`)."""
     path = os.fspath(path)
-    return parse_coursework_text(split_lines(read_scene_text(path)), path)
+    return parse_coursework_text(split_lines(read_scene_text(path, access)), path)

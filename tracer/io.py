@@ -13,6 +13,7 @@ import os
 from .coursework_convert import coursework_to_toml
 from .coursework_format import load_coursework_scene
 from .errors import SceneError, SceneWarning
+from .file_access import ANYWHERE, FileAccess
 from .scene import Scene
 from .toml_scene import load_toml_scene
 from .toml_writer import save_toml_scene, scene_to_toml_text
@@ -29,9 +30,12 @@ __all__ = [
 ]
 
 
-def load_scene(path) -> Scene:
-    """Read a scene: ``.toml`` (any case) as TOML, any other name as the coursework's text format."""
+def load_scene(path, access: FileAccess = ANYWHERE) -> Scene:
+    """Read a scene: ``.toml`` (any case) as TOML, any other name as the coursework's text format.
+
+    *access* (:class:`tracer.file_access.FileAccess`) says which files the scene and the files
+    it names may be: anywhere by default; the scene editor confines them to its root folder."""
     path = os.fspath(path)
     if os.path.splitext(path)[1].lower() == ".toml":
-        return load_toml_scene(path)
-    return load_coursework_scene(path)
+        return load_toml_scene(path, access)
+    return load_coursework_scene(path, access)

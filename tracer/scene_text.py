@@ -8,21 +8,20 @@ directory, a NUL byte, bytes that are not UTF-8), with the line to blame where t
 from __future__ import annotations
 
 from .errors import SceneError
+from .file_access import ANYWHERE, FileAccess, FileAccessError
 
 __all__ = ["read_scene_text", "decode_scene_bytes"]
 
 
-def read_scene_text(path: str) -> str:
-    """The file's text, refusing what cannot be read or is not UTF-8 text (SceneError)."""
+def read_scene_text(path: str, access: FileAccess = ANYWHERE) -> str:
+    """The file's text, refusing what cannot be read or is not UTF-8 text (SceneError), and
+    what *access* (:class:`tracer.file_access.FileAccess`) does not allow: a path outside its
+    root, a file that is not a regular file (a pipe or a device is never opened for reading in
+    a way that could block), a file over its size limit."""
     try:
-        with open(path, "rb") as fh:
-            data = fh.read()
-    except FileNotFoundError:
-        raise SceneError(path, None, "no such file") from None
-    except IsADirectoryError:
-        raise SceneError(path, None, "is a directory, not a scene file") from None
-    except OSError as exc:
-        raise SceneError(path, None, f"cannot read the file: {exc.strerror or exc}") from None
+        data = access.read_bytes(access.resolve(path), shown=path)
+    except FileAccessError as exc:
+        raise SceneError(path, None, exc.reason) from None
     return decode_scene_bytes(path, data)
 
 

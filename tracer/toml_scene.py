@@ -29,6 +29,7 @@ import os
 import re
 import tomllib
 import warnings
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -39,6 +40,7 @@ from bubbleoptics.colorimetry import srgb_to_linear_srgb
 from .assets import AssetError, load_environment_image, load_film_map, load_film_series, load_mesh_file
 from .bvh import degenerate_triangles
 from .errors import SceneError, SceneWarning
+from .file_access import ANYWHERE, FileAccess, FileAccessError, check_name
 from .layout import FILM_MODELS
 from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, MAX_INDEX, MAX_MAGNITUDE
 from .output import MAX_EXPOSURE, VIEWS
@@ -206,10 +208,16 @@ def _keyname(kp) -> str:
 
 
 class _Ctx:
-    def __init__(self, path: str, text: str):
+    def __init__(self, path: str, text: str, access: FileAccess = ANYWHERE, base=None):
         self.path = path
         self.text = text
-        self.base = Path(path).resolve().parent if path != "<string>" else Path.cwd()
+        self.access = access
+        if base is not None:
+            self.base = Path(base)
+        elif path != "<string>":
+            self.base = Path(path).resolve().parent
+        else:
+            self.base = access.root or Path.cwd()
         self._loc = None
 
     def line(self, kp):
@@ -310,11 +318,26 @@ class _Ctx:
         except AssetError as exc:
             raise self.bad(kp, str(exc)) from None
 
+    def name(self, kp, v) -> str:
+        """An object's or a material's name: text without control characters (a newline would
+        start a new line in a movie commands file that names the object)."""
+        try:
+            return check_name(self.string(kp, v), "the name")
+        except ValueError as exc:
+            raise self.bad(kp, str(exc)) from None
+
     def file(self, kp, v) -> Path:
+        """The file a key names, resolved against the scene file's folder and checked by the
+        scene's :class:`~tracer.file_access.FileAccess` (inside its root, a regular file, not
+        too large)."""
         rel = self.string(kp, v)
-        full = (self.base / rel) if not os.path.isabs(rel) else Path(rel)
-        if not full.is_file():
-            raise self.bad(kp, f"file not found: {rel} (looked for {full})")
+        try:
+            full = self.access.resolve(rel, base=self.base)
+            if not os.path.lexists(full):
+                raise self.bad(kp, f"file not found: {rel} (looked for {self.access.relative(full)})")
+            self.access.check_file(full, shown=rel)
+        except FileAccessError as exc:
+            raise self.bad(kp, str(exc)) from None
         return full
 
 
@@ -348,8 +371,10 @@ _RENDER_FLOAT = {"threshold": (0.0, None), "exposure": (-MAX_EXPOSURE, MAX_EXPOS
 _RENDER_CHOICE = {"spectral_method": ("auto", "point", "band"), "view": VIEWS}
 
 
-def parse_toml_text(text: str, path="<string>") -> Scene:
-    """Build a Scene from TOML text; ``path`` names it in errors and anchors relative paths."""
+def parse_toml_text(text: str, path="<string>", access: FileAccess = ANYWHERE, base=None) -> Scene:
+    """Build a Scene from TOML text; ``path`` names it in errors and anchors relative paths
+    (*base*, when given, anchors them instead: an uploaded file has no folder of its own).
+    *access* (:class:`tracer.file_access.FileAccess`) says which files the scene may name."""
     path = os.fspath(path)
     try:
         doc = tomllib.loads(text)
@@ -369,7 +394,7 @@ def parse_toml_text(text: str, path="<string>") -> Scene:
         raise SceneError(path, line, f"a number of {len(m.group()) if m else 'thousands of'} digits is too large")\
             from None
 
-    c = _Ctx(path, text)
+    c = _Ctx(path, text, access, base)
     c.keys((), doc, _TOP, where="the top level")
     scene = Scene(source=path)
 
@@ -397,7 +422,7 @@ def parse_toml_text(text: str, path="<string>") -> Scene:
     for i, t in enumerate(c.array_of_tables(("spheres",), doc.get("spheres", []))):
         kp = ("spheres", i)
         c.keys(kp, t, {"name", "center", "radius", "material"}, ("center", "radius"), "[[spheres]]")
-        name = c.string(kp + ("name",), t["name"]) if "name" in t else Sphere.__dataclass_fields__["name"].default
+        name = c.name(kp + ("name",), t["name"]) if "name" in t else Sphere.__dataclass_fields__["name"].default
         scene.spheres.append(Sphere(
             center=c.vec3(kp + ("center",), t["center"]),
             radius=c.number(kp + ("radius",), t["radius"], 0.0, lo_open=True),
@@ -499,7 +524,8 @@ def _environment(c: _Ctx, t) -> Environment:
     if "sun_direction" in t:
         env.sun_direction = c.vec3(kp + ("sun_direction",), t["sun_direction"], nonzero=True)
     if kind == "image":
-        env.image = c.asset(kp + ("path",), load_environment_image, c.file(kp + ("path",), t["path"]))
+        env.image = c.asset(kp + ("path",), partial(load_environment_image, access=c.access),
+                            c.file(kp + ("path",), t["path"]))
     return env
 
 
@@ -530,7 +556,7 @@ def _material(c: _Ctx, kp, t, name, inline) -> Material:
     d = Material()
     unit = dict(lo=0.0, hi=1.0)
     return Material(
-        name=c.string(kp + ("name",), t["name"]) if "name" in t else name,
+        name=c.name(kp + ("name",), t["name"]) if "name" in t else name,
         color=c.color(kp + ("color",), t["color"]) if "color" in t else d.color,
         ambient=c.number(kp + ("ambient",), t.get("ambient", d.ambient), **unit),
         diffuse=c.number(kp + ("diffuse",), t.get("diffuse", d.diffuse), **unit),
@@ -575,7 +601,7 @@ def _bubble(c: _Ctx, kp, t) -> Bubble:
         film=_film(c, kp + ("film",), t["film"]) if "film" in t else FilmProfile(),
         n_film=n_film,
         shininess=c.number(kp + ("shininess",), t.get("shininess", d.shininess), 0.0),
-        name=c.string(kp + ("name",), t["name"]) if "name" in t else d.name,
+        name=c.name(kp + ("name",), t["name"]) if "name" in t else d.name,
         film_model=film_model,
     )
 
@@ -625,7 +651,7 @@ _SHADING = ("auto", "smooth", "flat")
 def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
     c.keys(kp, t, {"name", "path", "vertices", "faces", "normals", "material", "translate", "scale", "shading"},
            (), "[[meshes]]")
-    name = c.string(kp + ("name",), t["name"]) if "name" in t else "mesh"
+    name = c.name(kp + ("name",), t["name"]) if "name" in t else "mesh"
     shading = c.string(kp + ("shading",), t["shading"]) if "shading" in t else "auto"
     if shading not in _SHADING:
         raise c.bad(kp + ("shading",), f"must be one of {', '.join(map(repr, _SHADING))}, got {_short(shading)}")
@@ -635,7 +661,8 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
             if key in t:
                 hint = " (a mesh file carries its own normals)" if key == "normals" else ""
                 raise c.bad(kp + (key,), f"give either 'path' or 'vertices' and 'faces', not both{hint}")
-        verts, faces, normals = c.asset(kp + ("path",), load_mesh_file, c.file(kp + ("path",), t["path"]))
+        verts, faces, normals = c.asset(kp + ("path",), partial(load_mesh_file, access=c.access),
+                                        c.file(kp + ("path",), t["path"]))
         fkp = kp + ("path",)
     else:
         for key in ("vertices", "faces"):
@@ -687,8 +714,9 @@ def _mesh(c: _Ctx, kp, t, materials) -> Mesh:
                 material=_material_ref(c, kp, t, materials, name), name=name, normals=normals, shading=shading)
 
 
-def load_toml_scene(path) -> Scene:
-    """Read a TOML scene file; raises SceneError('FILE:LINE: ...') on any problem."""
+def load_toml_scene(path, access: FileAccess = ANYWHERE) -> Scene:
+    """Read a TOML scene file; raises SceneError('FILE:LINE: ...') on any problem (*access*:
+    which files it and its assets may be, :class:`tracer.file_access.FileAccess`)."""
     path = os.fspath(path)
-    return parse_toml_text(read_scene_text(path), path)
+    return parse_toml_text(read_scene_text(path, access), path, access)
 
