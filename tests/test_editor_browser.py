@@ -53,11 +53,17 @@ def _settles_to(editor, expected, seconds=10.0):
 
 
 @pytest.fixture(scope="module")
-def scene_file(tmp_path_factory):
+def root(tmp_path_factory):
+    """The served editor's root folder: every file the page loads or saves is in it."""
+    return tmp_path_factory.mktemp("editor-root")
+
+
+@pytest.fixture(scope="module")
+def scene_file(root):
     import tracer
     from tracer.toml_writer import save_toml_scene
 
-    path = tmp_path_factory.mktemp("editor") / "bubbles.toml"
+    path = root / "bubbles.toml"
     save_toml_scene(tracer.default_scene(), path)
     return path
 
@@ -69,8 +75,8 @@ def browser():
 
 
 @pytest.fixture(scope="module")
-def server():
-    with editor_server(width=SIZE, height=SIZE, cwd=ROOT) as url:
+def server(root):
+    with editor_server(width=SIZE, height=SIZE, cwd=ROOT, args=("--root", str(root))) as url:
         yield url
 
 
@@ -81,8 +87,8 @@ def editor(browser, server):
     ed.page.close()
 
 
-def test_load_fills_lists_and_bad_file_keeps_scene(editor, scene_file, tmp_path):
-    bad = tmp_path / "bad.toml"
+def test_load_fills_lists_and_bad_file_keeps_scene(editor, scene_file, root):
+    bad = root / "bad.toml"
     bad.write_text("[camera]\nposition = [0, 0, 5]\nfov_deg = 'wide'\n", encoding="utf-8")
     before = editor.options("objects")
     editor.fill("scene_path", bad)
@@ -136,7 +142,7 @@ def test_add_and_delete_light(editor):
     assert len(editor.options("lights")) == 2
 
 
-def test_move_object_pick_pixel_and_save_then_load_gives_the_same_render(editor, tmp_path):
+def test_move_object_pick_pixel_and_save_then_load_gives_the_same_render(editor, root):
     editor.select("objects", "old")
     before = _pixels(editor.screenshot())
     editor.fill("dx", "-0.4")
@@ -151,20 +157,21 @@ def test_move_object_pick_pixel_and_save_then_load_gives_the_same_render(editor,
     pick.get_by_text("young").wait_for()
     pick.get_by_text(" nm at ").wait_for()
 
-    out_scene, img1, img2 = tmp_path / "edited.toml", tmp_path / "a.png", tmp_path / "b.png"
-    editor.fill("out_scene", out_scene)
+    out_scene, img1, img2 = root / "edited.toml", root / "a.png", root / "b.png"
+    editor.fill("out_scene", "edited.toml")  # names relative to the root
     editor.button("Save scene").click()
-    editor.page.locator(".editor-status").get_by_text("saved").wait_for()
-    editor.fill("out_image", img1)
+    editor.page.locator(".editor-status").get_by_text("saved edited.toml").wait_for()
+    editor.fill("out_image", img1)  # or absolute, inside it
     editor.button("Save image").click()
-    editor.page.locator(".editor-status").get_by_text(str(img1)).wait_for()
+    editor.page.locator(".editor-status").get_by_text("saved a.png").wait_for()
 
-    editor.fill("scene_path", out_scene)
+    editor.fill("scene_path", "edited.toml")
     editor.click_and_wait("Load")
-    editor.fill("out_image", img2)
+    editor.fill("out_image", "b.png")
     editor.button("Save image").click()
-    editor.page.locator(".editor-status").get_by_text(str(img2)).wait_for()
+    editor.page.locator(".editor-status").get_by_text("saved b.png").wait_for()
     assert np.array_equal(_pixels(img1.read_bytes()), _pixels(img2.read_bytes()))
+    assert out_scene.is_file()
 
 
 def test_parameters_settings_clear_and_readme_screenshot(editor):

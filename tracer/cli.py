@@ -167,6 +167,14 @@ def build_parser():
     ed.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
     ed.add_argument("--width", type=_setting_type("width"), help="image width (default: the scene's, else 960)")
     ed.add_argument("--height", type=_setting_type("height"), help="image height (default: the scene's, else 960)")
+    ed.add_argument("--root", metavar="DIR", help="the folder every file the page loads or saves resolves inside"
+                                                  " (default: the working folder)")
+    tok = ed.add_mutually_exclusive_group()
+    tok.add_argument("--token", help="the token the page asks for (default: a new random one, printed in the URL)")
+    tok.add_argument("--no-token", action="store_true", help="no token: only with a loopback --address (every user of"
+                                                             " this machine can then use the editor as you)")
+    ed.add_argument("--allow-host", action="append", default=[], metavar="NAME",
+                    help="a host name besides this machine's that requests may be addressed to (a proxy's)")
     return parser
 
 
@@ -186,12 +194,25 @@ def _edit(args):
         return _fail("tracer edit: error: the scene editor needs Panel: pip install 'bubbleoptics[editor]'")
     from .editor.app import serve
 
+    from .editor.app import check_serve_options
+    from .file_access import FileAccess, FileAccessError
+
+    token = False if args.no_token else args.token
+    try:
+        check_serve_options(args.address, token, args.width, args.height)
+        root = FileAccess(args.root).root if args.root is not None else None
+    except FileAccessError as err:
+        return _fail(f"tracer edit: error: --root {err}")
+    except ValueError as err:
+        return _fail(f"tracer edit: error: {err}")
     try:
         scene = _load_scene(args.scene) if args.scene else None
         return serve(scene, port=args.port, address=args.address, show=not args.no_browser, width=args.width,
-                     height=args.height)
+                     height=args.height, root=root, token=token, allow_hosts=args.allow_host)
     except SceneError as err:
         return _fail(str(err))
+    except ValueError as err:  # a name the editor refuses, an option out of range
+        return _fail(f"tracer edit: error: {err}")
     except OSError as err:  # e.g. the port is taken
         return _fail(f"tracer edit: error: {err}")
 

@@ -76,12 +76,14 @@ class FileAccess:
 
     *root*: None (anywhere the user can read) or a folder (resolved when this is made): every
     path must resolve inside it.  *max_bytes*: the largest file read (None: no limit).
-    *max_pixels*: the most pixels an image asset may have (None: no limit).
+    *max_pixels*: the most pixels an image asset may have (None: no limit).  *max_scene_bytes*:
+    the largest scene file (its text is parsed whole; None: *max_bytes*).
     """
 
     root: Path | None = None
     max_bytes: int | None = None
     max_pixels: int | None = None
+    max_scene_bytes: int | None = None
 
     def __post_init__(self):
         if self.root is not None:
@@ -137,18 +139,21 @@ class FileAccess:
             raise FileAccessError(shown, f"cannot read the file ({exc.strerror or exc})") from None
         return self._check_stat(st, shown)
 
-    def _check_stat(self, st, shown) -> int:
+    def _check_stat(self, st, shown, limit=None) -> int:
+        limit = self.max_bytes if limit is None else limit
         if stat.S_ISDIR(st.st_mode):
             raise FileAccessError(shown, "is a directory, not a file")
         if not stat.S_ISREG(st.st_mode):
             raise FileAccessError(shown, "not a regular file (a device, pipe or socket is never read)")
-        if self.max_bytes is not None and st.st_size > self.max_bytes:
-            raise FileAccessError(shown, f"{st.st_size:,} bytes, more than the {self.max_bytes:,} allowed here")
+        if limit is not None and st.st_size > limit:
+            raise FileAccessError(shown, f"{st.st_size:,} bytes, more than the {limit:,} allowed here")
         return st.st_size
 
-    def read_bytes(self, full: Path, shown=None) -> bytes:
-        """The bytes of the regular file *full* (resolved), at most *max_bytes*: opened
-        non-blocking and checked on the open file (not only by name) before it is read."""
+    def read_bytes(self, full: Path, shown=None, scene=False) -> bytes:
+        """The bytes of the regular file *full* (resolved), at most *max_bytes* (a *scene*
+        file: *max_scene_bytes*): opened non-blocking and checked on the open file (not only by
+        name) before it is read."""
+        limit = self.max_scene_bytes if scene and self.max_scene_bytes is not None else self.max_bytes
         shown = shown if shown is not None else full
         flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
         try:
@@ -160,9 +165,8 @@ class FileAccess:
         except OSError as exc:
             raise FileAccessError(shown, f"cannot read the file ({exc.strerror or exc})") from None
         try:
-            size = self._check_stat(os.fstat(fd), shown)
-            limit = size if self.max_bytes is None else min(size, self.max_bytes)
-            chunks, left = [], limit + 1  # one byte more than it had: a file that grew is refused
+            size = self._check_stat(os.fstat(fd), shown, limit)
+            chunks, left = [], (size if limit is None else min(size, limit)) + 1  # a file that grew is refused
             while left > 0:
                 try:
                     chunk = os.read(fd, min(left, 1 << 20))
@@ -175,8 +179,8 @@ class FileAccess:
                 chunks.append(chunk)
                 left -= len(chunk)
             data = b"".join(chunks)
-            if self.max_bytes is not None and len(data) > self.max_bytes:
-                raise FileAccessError(shown, f"more than the {self.max_bytes:,} bytes allowed here")
+            if limit is not None and len(data) > limit:
+                raise FileAccessError(shown, f"more than the {limit:,} bytes allowed here")
             return data
         finally:
             os.close(fd)

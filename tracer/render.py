@@ -18,7 +18,7 @@ from .pack import pack_scene
 from .scene import Scene
 
 __all__ = ["render", "render_with_stats", "render_spectral", "resolve_settings", "RenderStats", "save_image",
-           "DEFAULTS", "RenderCancelled"]
+           "DEFAULTS", "RenderCancelled", "render_in_parts"]
 
 #: Render defaults.  ``threshold``: a child ray whose largest throughput channel is at most
 #: this is not traced (1e-3 is below the 8-bit display step of 1/255 after the sRGB curve for
@@ -247,15 +247,23 @@ def render_with_stats(
     return image, stats
 
 
-def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show, stop=None):
-    """Render rows ``[row0, row1)`` of the image of settings *s* here, on numba's threads:
-    ``(image, counts, spectrum)`` of ``row1 - row0`` rows (spectrum None unless
-    *spectral_image*).  A first call on every 16th row measures the scene; the rest in one call
-    if short, else in interleaved parts of about :data:`CALL_SECONDS` each, behind a progress
-    bar when *show* and the rest is predicted to take over :data:`PROGRESS_AFTER`.  *stop*: see
-    :func:`_rows_call` (:class:`RenderCancelled`)."""
+def render_in_parts(packed: PackedScene, s, row0=0, row1=None, spectral_image=False, stop=None,
+                    call_seconds=CALL_SECONDS):
+    """Render rows ``[row0, row1)`` (default: every row) of the image of the packed scene
+    *packed* with the resolved settings *s* (:func:`resolve_settings`) here, on numba's
+    threads, in calls of about *call_seconds* each: a generator that yields ``(rows done,
+    rows in all, predicted seconds left)`` after each call and returns ``(image, counts,
+    spectrum)`` of ``row1 - row0`` rows (spectrum None unless *spectral_image*; take it with
+    ``yield from`` or from ``StopIteration.value``).
+
+    A first call on every 16th row measures the scene; the rest go in one call if short, else
+    in interleaved parts, so that every part refines the whole image.  Between two calls the
+    caller may do other work (the scene editor renders for several people in turns).  *stop*:
+    see :func:`_rows_call` (:class:`RenderCancelled`).  The pixels do not depend on how the
+    rows were split."""
     width, height, spp, seed, depth, threshold = (s[k] for k in ("width", "height", "spp", "seed", "depth",
                                                                   "threshold"))
+    row1 = height if row1 is None else row1
     n = row1 - row0
     image = np.zeros((n, width, 3))
     counts = np.zeros((n, N_COUNTS), dtype=np.int64)
@@ -265,23 +273,37 @@ def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show, stop=
     rest = np.setdiff1d(np.arange(row0, row1, dtype=np.int64), first)
     _rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0, stop)
     predicted = (time.perf_counter() - t0) / first.size * rest.size
-    n_calls = max(1, min(rest.size, int(predicted / CALL_SECONDS))) if rest.size else 0
-    bar = None
-    if show and predicted > PROGRESS_AFTER:
-        from tqdm import tqdm
+    n_calls = max(1, min(rest.size, int(predicted / call_seconds))) if rest.size else 0
+    done = first.size
+    yield done, n, predicted
+    for part in range(n_calls):
+        rows = rest[part::n_calls]
+        _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0, stop)
+        done += rows.size
+        yield done, n, predicted * (n - done) / max(1, rest.size)
+    return image, counts, spectrum
 
-        bar = tqdm(total=n, initial=first.size, unit="row", desc="render", leave=False, file=sys.stderr)
+
+def _render_here(packed: PackedScene, s, row0, row1, spectral_image, show, stop=None):
+    """:func:`render_in_parts` to the end, behind a progress bar when *show* and the render is
+    predicted to take over :data:`PROGRESS_AFTER`."""
+    parts = render_in_parts(packed, s, row0, row1, spectral_image, stop)
+    bar = None
     try:
-        for part in range(n_calls):
-            rows = rest[part::n_calls]
-            _rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0,
-                       stop)
-            if bar is not None:
-                bar.update(rows.size)
+        while True:
+            try:
+                done, total, left = next(parts)
+            except StopIteration as finished:
+                return finished.value
+            if bar is None and show and left > PROGRESS_AFTER:
+                from tqdm import tqdm
+
+                bar = tqdm(total=total, initial=done, unit="row", desc="render", leave=False, file=sys.stderr)
+            elif bar is not None:
+                bar.update(done - bar.n)
     finally:
         if bar is not None:
             bar.close()
-    return image, counts, spectrum
 
 
 def render_tile(packed: PackedScene, settings: dict, row0: int, row1: int, spectral_image=False):

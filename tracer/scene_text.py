@@ -19,7 +19,7 @@ def read_scene_text(path: str, access: FileAccess = ANYWHERE) -> str:
     root, a file that is not a regular file (a pipe or a device is never opened for reading in
     a way that could block), a file over its size limit."""
     try:
-        data = access.read_bytes(access.resolve(path), shown=path)
+        data = access.read_bytes(access.resolve(path), shown=path, scene=True)
     except FileAccessError as exc:
         raise SceneError(path, None, exc.reason) from None
     return decode_scene_bytes(path, data)

@@ -10,11 +10,19 @@ reflectance spectrum and colour (:func:`tracer.editor.preview.film_at_pixel`).
 Every edit goes through :class:`tracer.editor.model.EditorModel`; a bad value shows its message
 under its field and changes nothing (the previous image stays).  Each change renders a
 quarter-size preview, then the full image (:class:`tracer.editor.preview.PreviewRenderer`).
+
+Files are read and written through a :class:`tracer.file_access.FileAccess`: a served editor
+confines them to its root folder, reads regular files only within a size limit, and never
+writes over a file.  Reading and writing run in a thread pool, off the server's event loop;
+the renders run in the scheduler's thread (:mod:`tracer.editor.scheduler`).  Who may connect
+at all is :mod:`tracer.editor.security`'s.
 """
 
 from __future__ import annotations
 
+import asyncio
 import html
+import io
 import os
 import signal
 import socket
@@ -22,29 +30,44 @@ import sys
 import threading
 import time
 import weakref
+from concurrent.futures import ThreadPoolExecutor
 from functools import partial
 from pathlib import Path
 
 import numpy as np
 import panel as pn
-from bokeh.events import Tap
+from bokeh.events import ConnectionLost, Tap
 from bokeh.models import ColumnDataSource
 from bokeh.plotting import figure
 
 from ..errors import SceneError
+from ..file_access import ANYWHERE, FileAccess, FileAccessError
 from ..io import load_scene
 from ..movie_commands import BUBBLE_FIELDS, FILM_KIND_FIELDS, PHONG_FIELDS
-from ..output import display_codes, save_image
+from ..output import display_codes
 from ..scene import Scene
-from .model import EditorModel, FieldError, format_number
-from .preview import PreviewRenderer, film_at_pixel
+from .model import MAX_SIDE, EditorModel, FieldError, format_number
+from .preview import PreviewRenderer
+from .scheduler import scheduler
 
-__all__ = ["EditorApp", "serve", "free_port"]
+__all__ = ["EditorApp", "serve", "free_port", "MAX_SESSIONS", "MAX_SCENE_BYTES", "MAX_ASSET_BYTES",
+           "MAX_IMAGE_PIXELS"]
 
 #: The image's size (pixels) unless the scene's [render] table or the caller gives one.
 DEFAULT_SIZE = 960
 #: The preview's side on the page, in CSS pixels.
 VIEW_PX = 560
+#: The most editors (browser tabs) a server keeps open at once; another tab is told to wait.
+MAX_SESSIONS = 8
+#: The largest scene file (or upload) a served editor reads, in bytes.
+MAX_SCENE_BYTES = 8 * 2**20
+#: The largest file a served editor's scene may name (a mesh, an image, a film), in bytes.
+MAX_ASSET_BYTES = 64 * 2**20
+#: The most pixels an environment image of a served editor's scene may have (4096 x 2048).
+MAX_IMAGE_PIXELS = 4096 * 2048
+#: Reading and writing files, off the server's event loop.
+_IO = ThreadPoolExecutor(max_workers=2, thread_name_prefix="tracer-editor-io")
+
 _FILM_FIELDS = [f for f in BUBBLE_FIELDS if f != "shininess"]
 #: The editors alive in this process (their previews are stopped when the server stops).
 _APPS = weakref.WeakSet()
@@ -98,16 +121,19 @@ class EditorApp:
     built-in scene).  ``layout`` is the Panel object to show; ``width`` and ``height`` the full
     image's size (default: the scene's ``[render]`` table, else 960 x 960)."""
 
-    def __init__(self, scene=None, *, width=None, height=None, view_px=VIEW_PX):
-        if scene is None or isinstance(scene, Scene):
-            self.model = EditorModel(scene)
-        else:
-            self.model = EditorModel(load_scene(scene))
-        rd = self.model.loaded.render_defaults
+    def __init__(self, scene=None, *, width=None, height=None, view_px=VIEW_PX, access: FileAccess = ANYWHERE):
+        self.access = access
+        if scene is not None and not isinstance(scene, Scene):
+            scene = load_scene(scene, access)
+        rd = (scene.render_defaults if scene is not None else {})
         self.width = int(width or rd.get("width", DEFAULT_SIZE))
         self.height = int(height or rd.get("height", DEFAULT_SIZE))
+        self.model = EditorModel(scene, size=(self.width, self.height))
         self._doc = pn.state.curdoc
+        self._closed = False
         self.image = None  # the last full-resolution linear image
+        self.image_codes = None  # its display codes (8-bit sRGB at the exposure)
+        self.image_version = -1  # the version they show
         self.stage = ""  # the stage on screen: "", "preview", "full", "cleared"
         self.shown_version = 0
         self.pick = None
@@ -117,17 +143,26 @@ class EditorApp:
         self.preview = PreviewRenderer(self._on_image, self._on_render_error)
         _APPS.add(self)
         self._fill_lists()
+        if self.model.budget_notes:
+            self._say("the scene's render settings are beyond the editor's budget: "
+                      + ", ".join(self.model.budget_notes))
         if self._served():  # the first render once the page is connected (an image sent earlier can be lost)
             pn.state.onload(self.refresh)
             pn.state.on_session_destroyed(lambda context: self.close())
+            # the tab is gone (closed, reloaded, its network lost): stop its renders now, not when
+            # Bokeh discards the unused session many seconds later
+            self._doc.on_event(ConnectionLost, lambda event: self.close())
         else:
             self.refresh()
 
     def close(self):
-        """Stop the preview's thread (a served page's session does this when it ends)."""
+        """Cancel this editor's renders (a served page's session does this when its tab goes)."""
+        self._closed = True
         self.preview.close()
-        if self._upload_dir is not None:
-            self._upload_dir.cleanup()
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
 
     def _served(self):
         return self._doc is not None and getattr(self._doc, "session_context", None) is not None
@@ -137,10 +172,9 @@ class EditorApp:
         F = _Field
         self.scene_path = F("scene_path", "scene file", getattr(self.model.loaded, "source", ""), width=300)
         self.load_button = _button("Load")
-        # or a file from the person's computer: saved under its own name in a folder of this
-        # session's, then loaded as a path is (its FILE:LINE messages name that copy)
+        # or a file from the person's computer: read from memory (never written to the server's
+        # disk), its FILE:LINE messages naming it, the files it names looked for in the root
         self.upload = pn.widgets.FileInput(accept=".toml,.txt,.scene", css_classes=["editor-upload"])
-        self._upload_dir = None
         self.objects = pn.widgets.Select(**{_LABEL: "objects"}, options=[], size=6, width=300)
         self.lights = pn.widgets.Select(**{_LABEL: "lights"}, options=[], size=4, width=300)
         self.light_fields = {k: F(k) for k in ("x", "y", "z", "intensity")}
@@ -167,8 +201,16 @@ class EditorApp:
         self.save_image_button = _button("Save image")
         self.out_scene = F("out_scene", "scene file (.toml)", "edited.toml", width=220)
         self.save_scene_button = _button("Save scene")
-        self.out_commands = F("out_commands", "commands file", "edits.txt", width=220)
+        self.out_commands = F("out_commands", "commands file (.txt)", "edits.txt", width=220)
         self.save_commands_button = _button("Save commands")
+        # the same three files as downloads to the person's computer (no server path at all)
+        self.download_image = pn.widgets.FileDownload(callback=self._image_download, filename="editor.png",
+                                                      label="Download image", css_classes=["download-image"])
+        self.download_scene = pn.widgets.FileDownload(callback=self._scene_download, filename="edited.toml",
+                                                      label="Download scene", css_classes=["download-scene"])
+        self.download_commands = pn.widgets.FileDownload(callback=self._commands_download, filename="edits.txt",
+                                                         label="Download commands",
+                                                         css_classes=["download-commands"])
         self.status = pn.pane.HTML("", css_classes=["editor-status"], width=560)
         self.stage_text = pn.pane.HTML("", css_classes=["editor-stage"])
 
@@ -184,6 +226,7 @@ class EditorApp:
         fig.image_rgba(image="image", x=0, y=0, dw=w, dh=h, source=self.source)
         fig.on_event(Tap, self._on_tap)
         self.figure = fig
+        self._view_size = (fw, fh)
         self.image_pane = pn.Column(pn.pane.Bokeh(fig, margin=0), css_classes=["editor-image"], width=fw, height=fh,
                                     margin=0)
         self.spectrum_source = ColumnDataSource(data=dict(wl=[], R=[]))
@@ -194,16 +237,20 @@ class EditorApp:
         self.swatch = pn.pane.HTML("", width=300, css_classes=["editor-pick"])
 
         for button, handler in [
-            (self.load_button, self.on_load), (self.change_button, self.on_change_light),
+            (self.load_button, self.on_load), (self.save_image_button, self.on_save_image),
+            (self.save_scene_button, self.on_save_scene), (self.save_commands_button, self.on_save_commands),
+        ]:
+            button.on_click(self._async_handler(handler))
+        self.upload.param.watch(self._async_handler(self.on_upload), "value")
+        for button, handler in [
+            (self.change_button, self.on_change_light),
             (self.add_button, self.on_add_light), (self.delete_button, self.on_delete_light),
             (self.params_button, self.on_change_parameters), (self.geometry_button, self.on_change_geometry),
             (self.orbit_button, self.on_orbit), (self.zoom_button, self.on_zoom),
             (self.settings_button, self.on_settings), (self.undo_button, self.on_undo),
-            (self.clear_button, self.on_clear), (self.save_image_button, self.on_save_image),
-            (self.save_scene_button, self.on_save_scene), (self.save_commands_button, self.on_save_commands),
+            (self.clear_button, self.on_clear),
         ]:
             button.on_click(lambda event, h=handler: self._guard(h))
-        self.upload.param.watch(lambda e: self._guard(self.on_upload), "value")
         self.objects.param.watch(lambda e: self._fill_object_form(), "value")
         self.lights.param.watch(lambda e: self._fill_light_form(), "value")
         self.profile.param.watch(lambda e: self._show_film_fields(), "value")
@@ -231,6 +278,7 @@ class EditorApp:
             pn.Row(self.undo_button, self.clear_button),
             pn.Row(self.out_image.panel, self.save_image_button), pn.Row(self.out_scene.panel, self.save_scene_button),
             pn.Row(self.out_commands.panel, self.save_commands_button),
+            pn.Row(self.download_image, self.download_scene, self.download_commands),
             width=620,
         )
         view = pn.Column(self.image_pane, self.stage_text, self.status,
@@ -304,11 +352,52 @@ class EditorApp:
         with pn.io.hold():  # the form's changes go to the page in one message
             self._guard_held(handler)
 
+    def _async_handler(self, handler):
+        """A Panel callback that runs *handler* (a generator: it yields ``(function, args)``
+        to run in the file thread pool and receives the result) without blocking the server's
+        event loop: the file work runs in :data:`_IO`, the widgets change on the loop."""
+
+        async def callback(event):
+            self._t_edit = time.perf_counter()
+            for f in self._all_fields():
+                f.clear()
+            steps = handler()
+            result, failure = None, None
+            try:
+                while True:
+                    try:
+                        work = steps.send(result) if failure is None else steps.throw(failure)
+                    except StopIteration as done:
+                        message = done.value
+                        break
+                    failure = None
+                    try:
+                        result = await asyncio.get_running_loop().run_in_executor(_IO, partial(*work))
+                    except Exception as exc:
+                        failure = exc
+            except Exception as exc:
+                with pn.io.hold():
+                    self._report(exc)
+                return
+            with pn.io.hold():
+                self._say(message or "")
+
+        return callback
+
     def _guard_held(self, handler):
         for f in self._all_fields():
             f.clear()
         try:
             message = handler()
+        except Exception as exc:
+            self._report(exc)
+            return
+        self._say(message or "")
+
+    def _report(self, exc):
+        """Show a handler's failure: under its field, and on the status line."""
+        try:
+            raise exc
         except FieldError as err:
             field = self._field_for(err.field)
             if field is not None:
@@ -320,9 +409,9 @@ class EditorApp:
             self._say(str(err), error=True)
             return
         except (ValueError, OSError) as err:
-            self._say(str(err), error=True)
-            return
-        self._say(message or "")
+            self._say(_one_line(err), error=True)
+        except MemoryError:
+            self._say("out of memory: the file or the render is too large for this server", error=True)
 
     def _field_for(self, name):
         for group in (self.light_fields, self.geometry_fields, self.camera_fields, self.setting_fields):
@@ -336,6 +425,7 @@ class EditorApp:
 
     def _say(self, text, error=False):
         color = "#b00020" if error else "#333"
+        text = _one_line(text)
         self.status.object = f'<span class="msg" style="color:{color}">{html.escape(text)}</span>' if text else ""
 
     def _edited(self, message):
@@ -344,26 +434,37 @@ class EditorApp:
         return message
 
     def on_load(self):
+        """**Load** the scene file in the path field (read in the file thread pool)."""
         path = self.scene_path.value.strip()
         if not path:
             raise FieldError("scene_path", "give a scene file's path (TOML or the coursework's format)")
-        self.model.load(path)  # SceneError: the old scene stays
+        scene = yield (self._read_scene, path)
+        self.model.replace(scene)
         self._edited(None)
-        return f"loaded {path}"
+        return self._loaded_message(path)
+
+    def _read_scene(self, path):
+        scene = load_scene(path, self.access)  # SceneError: the old scene stays
+        return EditorModel.check_names(scene)
+
+    def _loaded_message(self, name):
+        notes = self.model.budget_notes
+        return f"loaded {name}" + (f" (render settings within the editor's budget: {', '.join(notes)})"
+                                   if notes else "")
 
     def on_upload(self):
-        """**Load** a file chosen in the browser (the file input)."""
-        import tempfile
-
+        """**Load** a file chosen in the browser (the file input): parsed from memory."""
         if self.upload.value is None:
             return None
         name = Path(self.upload.filename or "scene.toml").name
-        if self._upload_dir is None:
-            self._upload_dir = tempfile.TemporaryDirectory(prefix="tracer-edit-")
-        path = Path(self._upload_dir.name) / name
-        path.write_bytes(self.upload.value)
-        self.scene_path.value = str(path)
-        return self.on_load()
+        data = self.upload.value
+        if self.access.max_bytes is not None and len(data) > self.access.max_bytes:
+            raise FieldError("scene_path", f"{name}: {len(data):,} bytes, more than the {self.access.max_bytes:,}"
+                                           " allowed here")
+        scene = yield (_parse_upload, name, data, self.access)
+        self.model.replace(scene)
+        self._edited(None)
+        return self._loaded_message(name)
 
     def on_change_light(self):
         n = self.selected_light()
@@ -437,32 +538,73 @@ class EditorApp:
         self._show(np.zeros((1, 1, 3), np.uint8), "cleared", self.model.version)
         return "cleared"
 
-    def _out_path(self, field):
+    def _saved(self, path, renamed, what=""):
+        shown = self.access.relative(path)
+        return f"saved {shown}" + (what and f" ({what})") + (
+            " (a file of the name asked for exists: never overwritten)" if renamed else "")
+
+    def _save(self, field, suffixes, make_files):
+        """Write new files named after *field*'s text (:meth:`FileAccess.save_new`), in the
+        file thread pool; a stop of the server waits for a save in progress."""
         text = field.value.strip()
         if not text:
             raise FieldError(field.name, f"{getattr(field.input, _LABEL)}: give a file name")
-        return Path(text).expanduser()
+        try:
+            return (yield (_save_new, self.access, text, suffixes, make_files))
+        except FileAccessError as err:
+            raise FieldError(field.name, str(err)) from None
+
+    def _full_image(self, field=None):
+        """The full image's display codes (of the latest edit, at its exposure)."""
+        if self.image_codes is None or self.image_version != self.model.version:
+            raise FieldError(field, "the full-resolution image of the latest edit is not rendered yet: wait until"
+                                    " it is shown, then save")
+        return self.image_codes
 
     def on_save_image(self):
-        path = self._out_path(self.out_image)
-        if path.suffix.lower() != ".png":
-            raise FieldError("out_image", f"the image is saved as PNG: give a name ending in .png, got {path.name!r}")
-        if not self.preview.idle(timeout=120) or self.image is None:
-            raise FieldError("out_image", "no full-resolution image yet")
-        save_image(self.image, path, exposure=self.model.settings["exposure"])
-        return f"saved {path}"
+        codes = self._full_image("out_image")
+        path, renamed = yield from self._save(self.out_image, (".png",), lambda stem: {f"{stem}.png": _png_bytes(codes)})
+        return self._saved(path, renamed)
 
     def on_save_scene(self):
-        path = self._out_path(self.out_scene)
-        if path.suffix.lower() != ".toml":
-            raise FieldError("out_scene", f"a scene is saved as TOML: give a name ending in .toml, got {path.name!r}")
-        self.model.save_scene(path)
-        return f"saved {path}"
+        files = self.model.scene_files_maker()  # the scene as it is now, not after a later edit
+        path, renamed = yield from self._save(self.out_scene, (".toml",), files)
+        return self._saved(path, renamed)
 
     def on_save_commands(self):
-        path = self._out_path(self.out_commands)
-        self.model.save_commands(path)
-        return f"saved {path} ({len(self.model.commands_text().splitlines()) - 3} edits)"
+        data = self.model.commands_text().encode("utf-8")
+        path, renamed = yield from self._save(self.out_commands, (".txt",), lambda stem: {f"{stem}.txt": data})
+        return self._saved(path, renamed, f"{len(data.splitlines()) - 3} edits")
+
+    # -- downloads (the browser's: Panel's FileDownload asks for the bytes on a click) -------------
+    def _image_download(self):
+        try:
+            return io.BytesIO(_png_bytes(self._full_image()))
+        except FieldError as err:
+            self._say(str(err), error=True)
+            return None
+
+    def _scene_download(self):
+        try:
+            files = self.model.scene_files_maker()("edited")
+        except ValueError as err:
+            self._say(_one_line(err), error=True)
+            return None
+        if len(files) == 1:
+            self.download_scene.filename = "edited.toml"
+            return io.BytesIO(next(iter(files.values())))
+        import zipfile
+
+        out = io.BytesIO()  # the TOML file and the arrays it names, in one archive
+        with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
+            for name, data in files.items():
+                z.writestr(name, data)
+        self.download_scene.filename = "edited.zip"
+        out.seek(0)
+        return out
+
+    def _commands_download(self):
+        return io.BytesIO(self.model.commands_text().encode("utf-8"))
 
     # -- rendering --------------------------------------------------------------------------
     def refresh(self):
@@ -474,13 +616,16 @@ class EditorApp:
         if shown.version != self.model.version:
             return  # an edit came after it: its own render follows
         if shown.linear is not None:
-            self.image = shown.linear
-        self._schedule(partial(self._show, shown.codes, shown.stage, shown.version, shown.seconds))
+            self.image, self.image_codes, self.image_version = shown.linear, shown.codes, shown.version
+        codes = _fit(shown.codes, self._view_size) if shown.stage == "full" else shown.codes
+        self._schedule(partial(self._show, codes, shown.stage, shown.version, shown.seconds))
 
     def _on_render_error(self, version, exc):
         self._schedule(partial(self._say, f"render failed: {exc}", True))
 
     def _schedule(self, fn):
+        if self._closed:
+            return
         if self._served():
             self._doc.add_next_tick_callback(fn)
         else:  # a notebook (or no document yet): Panel and Bokeh push the change themselves
@@ -508,13 +653,9 @@ class EditorApp:
         col, row = int(event.x), self.height - 1 - int(event.y)
         if not (0 <= col < self.width and 0 <= row < self.height):
             return
-        # in a thread: the pick waits for a render in progress, the page must not
-        scene = self.model.scene
-        threading.Thread(target=self._pick, args=(scene, col, row), name="tracer-editor-pick", daemon=True).start()
-
-    def _pick(self, scene, col, row):
-        sample = film_at_pixel(scene, col, row, self.width, self.height)
-        self._schedule(partial(self._show_pick, col, row, sample))
+        # a job of the render scheduler: it takes its turn between render steps, the page waits not
+        self.preview.pick(self.model.scene, col, row, self.width, self.height,
+                          lambda sample: self._schedule(partial(self._show_pick, col, row, sample)))
 
     def _show_pick(self, col, row, sample):
         self.pick = (col, row, sample)
@@ -527,8 +668,8 @@ class EditorApp:
         self.swatch.object = (
             f'<div style="display:flex;gap:8px;align-items:center"><div style="width:48px;height:48px;'
             f'background:rgb({r},{g},{b});border:1px solid #888"></div><div>pixel ({col}, {row}): '
-            f'{sample.bubble}, film {sample.thickness_nm:.0f} nm at {sample.angle_deg:.1f}°<br>'
-            f'colour #{r:02x}{g:02x}{b:02x} (D65)</div></div>')
+            f'<span class="pick-name">{html.escape(sample.bubble)}</span>, film {sample.thickness_nm:.0f} nm at '
+            f'{sample.angle_deg:.1f}°<br>colour #{r:02x}{g:02x}{b:02x} (D65)</div></div>')
 
 
 # ------------------------------------------------------------------------------------------
@@ -541,75 +682,223 @@ def free_port(address="127.0.0.1") -> int:
         return s.getsockname()[1]
 
 
-def warm_up(scene=None):
-    """Load the compiled kernels a first edit needs (a tiny render, its display codes, a picked
-    pixel) so that the first person's first change is as quick as the next ones."""
-    from ..builtin import default_scene
-    from ..render import PARALLEL_LOCK, render
+def _one_line(text) -> str:
+    """A message as one line of at most 300 characters (a file's text never spills into it)."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= 300 else text[:297] + "..."
 
+
+def _parse_upload(name, data, access):
+    """The scene in an uploaded file's bytes (never written to disk): the files it names are
+    looked for in *access*'s root."""
+    from ..coursework_format import parse_coursework_text, split_lines
+    from ..scene_text import decode_scene_bytes
+    from ..toml_scene import parse_toml_text
+
+    text = decode_scene_bytes(name, data)
+    if name.lower().endswith(".toml"):
+        scene = parse_toml_text(text, name, access, base=access.root or Path.cwd())
+    else:
+        scene = parse_coursework_text(split_lines(text), name)
+    return EditorModel.check_names(scene)
+
+
+_SAVES_LOCK = threading.Condition()
+_SAVES_RUNNING = [0]
+
+
+def _save_new(access, text, suffixes, make_files):
+    """:meth:`FileAccess.save_new`, counted: a stop of the server waits for it to end."""
+    with _SAVES_LOCK:
+        _SAVES_RUNNING[0] += 1
+    try:
+        return access.save_new(text, suffixes, make_files)
+    finally:
+        with _SAVES_LOCK:
+            _SAVES_RUNNING[0] -= 1
+            _SAVES_LOCK.notify_all()
+
+
+def _wait_for_saves(timeout):
+    end = time.monotonic() + timeout
+    with _SAVES_LOCK:
+        while _SAVES_RUNNING[0] and time.monotonic() < end:
+            _SAVES_LOCK.wait(0.02)
+        return not _SAVES_RUNNING[0]
+
+
+def _png_bytes(codes) -> bytes:
+    """Display codes (8-bit sRGB, :func:`tracer.output.display_codes`) as the PNG that
+    :func:`tracer.output.save_image` writes."""
+    from PIL import Image
+
+    from ..output import PNG_COMPRESS_LEVEL
+
+    out = io.BytesIO()
+    Image.fromarray(codes, mode="RGB").save(out, format="PNG", compress_level=PNG_COMPRESS_LEVEL)
+    return out.getvalue()
+
+
+def _fit(codes, size):
+    """Display codes shrunk to fit *size* (the canvas's pixels): what is sent to the page (the
+    saved image keeps every pixel)."""
+    h, w = codes.shape[:2]
+    fw, fh = size
+    if w <= fw and h <= fh:
+        return codes
+    from PIL import Image
+
+    return np.asarray(Image.fromarray(np.ascontiguousarray(codes[..., :3])).resize((fw, fh), Image.Resampling.BOX))
+
+
+def _warm_up_steps(scene):
+    """The scheduler job that loads the compiled kernels a first edit needs (a tiny render, its
+    display codes, a picked pixel, colour-science), so that the first change is as quick as
+    the next ones."""
     from bubbleoptics import film_color
 
-    scene = scene if scene is not None else default_scene()
-    import importlib
+    from ..builtin import default_scene
+    from ..render import render_with_stats
+    from .preview import _film_at_pixel
+    from .scheduler import BACKGROUND
 
-    with PARALLEL_LOCK:
-        display_codes(render(scene, width=8, height=8, progress=False))
-        film_at_pixel(scene, 4, 4, 8, 8)
-    importlib.import_module("colour")  # colour-science, which film_color's first call imports (seconds)
-    with PARALLEL_LOCK:
+    def steps(cancel):
+        yield BACKGROUND
+        s = scene if scene is not None else default_scene()
+        display_codes(render_with_stats(s, width=8, height=8, progress=False, cancel=cancel)[0])
+        yield BACKGROUND
+        if s.bubbles:
+            _film_at_pixel(s, 4, 4, 8, 8)
+        yield BACKGROUND
+        import colour  # noqa: F401  (colour-science: film_color's first call imports it, seconds)
+
         film_color(300.0)
 
+    return steps
 
-def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, height=None, quiet=False):
+
+def check_serve_options(address, token, width=None, height=None):
+    """Refuse what ``serve`` must not start with (ValueError, one line)."""
+    from .security import is_loopback
+
+    if token is False and not is_loopback(address):
+        raise ValueError(f"--no-token serves only this machine's loopback (127.0.0.1), not --address {address}:"
+                         " anyone on the network could use the editor as you")
+    if isinstance(token, str) and (len(token) < 16 or not token.isprintable() or " " in token):
+        raise ValueError("--token must be at least 16 printable characters without spaces")
+    for name, v in (("--width", width), ("--height", height)):
+        if v is not None and not 1 <= int(v) <= MAX_SIDE:
+            raise ValueError(f"{name} must be an integer from 1 to {MAX_SIDE} in the editor, got {v}")
+
+
+def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, height=None, quiet=False,
+          root=None, token=None, allow_hosts=(), max_sessions=MAX_SESSIONS, ready=None):
     """Serve the editor for *scene* at http://ADDRESS:PORT/ until Ctrl-C or SIGTERM (then the
-    server stops and this returns).  *port* 0 picks a free one.  Each browser tab gets its own
-    editor (and its own scene)."""
+    server stops within about a second and this returns 0).  *port* 0 picks a free one.  Each
+    browser tab gets its own editor (and its own scene), up to *max_sessions* at once.
+
+    *token*: None (a new random one, printed in the URL), a string (that one), or False (none:
+    only on a loopback *address*, with a warning).  *root*: the folder (default: the working
+    folder) that every file the page loads or saves resolves inside.  *allow_hosts*: names
+    besides this machine's that a request's Host may give (a reverse proxy's).  *ready*: called
+    with the URL once the server listens.  See :mod:`tracer.editor.security`.
+    """
+    from .security import TokenAuth, allowed_hosts, is_loopback, new_secret, new_token, refuse_foreign_hosts
+
+    check_serve_options(address, token, width, height)
+    access = FileAccess(root if root is not None else Path.cwd(), max_bytes=MAX_ASSET_BYTES,
+                        max_pixels=MAX_IMAGE_PIXELS, max_scene_bytes=MAX_SCENE_BYTES)
     if scene is not None and not isinstance(scene, Scene):
-        scene = load_scene(scene)  # a bad file fails here, before the server starts
+        scene = load_scene(scene)  # the command line's own file: a bad one fails here, before the server starts
+    if scene is not None:
+        EditorModel.check_names(scene)
+    token = new_token() if token is None else (token or None)
     port = port or free_port(address)
     # in the background, so that the server answers at once (a first edit meanwhile waits for it)
-    threading.Thread(target=warm_up, args=(scene,), name="tracer-editor-warm-up", daemon=True).start()
+    warm = object()
+    scheduler().submit(warm, "warm-up", _warm_up_steps(scene))
 
     def app():
-        return EditorApp(scene, width=width, height=height).layout
+        live = [a for a in list(_APPS) if not a.closed]
+        if len(live) >= max_sessions:
+            return pn.pane.Markdown(f"### tracer scene editor\n\n{len(live)} editors are open on this server, the"
+                                    f" most it keeps at once: close one of them (or wait a minute), then reload.",
+                                    css_classes=["editor-full"])
+        return EditorApp(scene, width=width, height=height, access=access).layout
 
-    origins = [f"{host}:{port}" for host in {address, "localhost", "127.0.0.1"}]
+    hosts = allowed_hosts(address, allow_hosts)
+    origins = sorted(f"{h}:{port}" for h in hosts if ":" not in h)  # Bokeh's allowlist takes no IPv6
+    secret = new_secret()
     server = pn.serve({"/": app}, port=port, address=address, websocket_origin=origins, show=False,
-                      start=False, title="tracer scene editor", verbose=False)
-    url = f"http://{address}:{port}/"
+                      start=False, title="tracer scene editor", verbose=False,
+                      auth_provider=TokenAuth(token, port), cookie_secret=secret.decode(),
+                      sign_sessions=True, secret_key=secret, generate_session_ids=True,
+                      websocket_max_message_size=MAX_SCENE_BYTES * 4 // 3 + 2**20)
+    # Bokeh's Server keeps its Tornado application as _tornado (Panel reaches it the same way)
+    refuse_foreign_hosts(server._tornado, hosts)
+    shown_host = "127.0.0.1" if address in ("0.0.0.0", "::", "") else address
+    url = f"http://{shown_host}:{port}/" + (f"?token={token}" if token else "")
     if not quiet:
         print(f"tracer edit: serving {url} (Ctrl-C to stop)", flush=True)
+        print(f"tracer edit: files load and save inside {access.root}", flush=True)
+        user = os.environ.get("USER") or os.environ.get("USERNAME") or "you"
+        if token is None:
+            print(f"tracer edit: warning: no token (--no-token): anyone who can reach port {port} of this machine,"
+                  f" every user of it included, can read and write files inside {access.root} as {user}",
+                  file=sys.stderr, flush=True)
+        if not is_loopback(address):
+            print(f"tracer edit: warning: serving on {address}, not only this machine: anyone on the network who"
+                  f" has the token can read and write files inside {access.root} as {user}, and plain HTTP"
+                  " carries the token unencrypted (use a trusted network, or a TLS proxy)",
+                  file=sys.stderr, flush=True)
 
-    def stop(*_):  # SIGTERM stops the server as Ctrl-C does
-        raise KeyboardInterrupt
+    def stop(*_):  # SIGTERM and Ctrl-C: stop the event loop (from the signal, thread-safely)
+        server.io_loop.asyncio_loop.call_soon_threadsafe(server.io_loop.stop)
 
-    previous = signal.signal(signal.SIGTERM, stop)
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
         server.start()
         if show:
             server.io_loop.add_callback(partial(_open_browser, url))
+        if ready is not None:
+            server.io_loop.add_callback(partial(ready, url))
         server.io_loop.start()
     except KeyboardInterrupt:
         pass
     finally:
-        signal.signal(signal.SIGTERM, previous)
-        server.stop()
-        _quiesce()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        stopped = _shutdown(server)
     if not quiet:
         print("tracer edit: stopped", file=sys.stderr, flush=True)
+    if not stopped:
+        # numba is compiling a kernel (the first run on this machine), which cannot be stopped:
+        # nothing is being written, so end the process now rather than wait for it
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(0)
     return 0
 
 
-def _quiesce(seconds=30.0):
-    """Stop every editor's preview and keep numba's thread pool idle from now on: the renders in
-    flight stop at their next ray, and the lock that every parallel kernel takes is taken here
-    and not given back, so that no kernel runs while the interpreter exits (numba's workqueue
-    layer aborts the process when its threads are torn down mid-kernel)."""
-    from ..render import PARALLEL_LOCK
-
+def _shutdown(server, seconds=1.0) -> bool:
+    """Stop serving: every editor's renders cancelled (their kernels stop at their next ray),
+    the saves in progress finished, the server closed.  False if the render thread is still
+    busy after *seconds* (numba compiling)."""
     for editor in list(_APPS):
         editor.close()
-    PARALLEL_LOCK.acquire(timeout=seconds)
+    stopped = scheduler().close(timeout=seconds)
+    _wait_for_saves(seconds)
+    try:
+        server.stop(wait=False)
+    except Exception:  # a server that never started
+        pass
+    if stopped:
+        from ..render import PARALLEL_LOCK
+
+        # no parallel kernel may start while the interpreter exits (numba's workqueue layer
+        # aborts the process when its threads are torn down mid-kernel)
+        PARALLEL_LOCK.acquire(timeout=seconds)
+    return stopped
 
 
 def _open_browser(url):

@@ -29,6 +29,9 @@ from pathlib import Path
 
 import tracer
 
+from bubbleoptics.atomic import write_atomically
+
+from ..file_access import ANYWHERE, FileAccess, check_name
 from ..io import load_scene
 from ..limits import MAX_MAGNITUDE, check_setting
 from ..movie_commands import BUBBLE_FIELDS, PHONG_FIELDS, SWITCH_FIELDS, Timeline
@@ -36,7 +39,8 @@ from ..output import MAX_EXPOSURE
 from ..render import DEFAULTS
 from ..scene import Scene
 
-__all__ = ["EditorModel", "FieldError", "FIELDS", "SETTINGS", "check_field", "check_settings_field", "format_number"]
+__all__ = ["EditorModel", "FieldError", "FIELDS", "SETTINGS", "EDITOR_LIMITS", "MAX_SIDE", "MAX_WORK", "render_work",
+           "check_field", "check_settings_field", "format_number"]
 
 
 class FieldError(ValueError):
@@ -60,9 +64,25 @@ FIELDS = {
     **PHONG_FIELDS,
     **BUBBLE_FIELDS,
 }
-#: The render settings the editor changes: the CLI's limits (:mod:`tracer.limits`), and the
-#: display exposure in stops.
+#: The render settings the editor changes: the CLI's limits (:mod:`tracer.limits`) within the
+#: editor's render budget below, and the display exposure in stops.
 SETTINGS = ("depth", "spp", "spectral_samples", "exposure")
+
+#: The editor's render budget.  An editor is a server that other people's clicks make work, so
+#: what one click may cost is bounded: each setting has a cap, and a full image may cost at most
+#: :data:`MAX_WORK` (pixels x spp x bands x depth), 16 times what the defaults cost at 960 x 960
+#: (a few seconds of this machine's time at most, against hours that the command line's limits
+#: allow).  Deeper, finer renders are for ``tracer image`` with the saved scene.
+EDITOR_LIMITS = {"depth": 64, "spp": 256, "spectral_samples": 128}
+#: The largest width or height of the editor's image (pixels).
+MAX_SIDE = 4096
+#: The most work a full image may take: width x height x spp x spectral_samples x depth.
+MAX_WORK = 16 * 960 * 960 * DEFAULTS["spp"] * DEFAULTS["spectral_samples"] * DEFAULTS["depth"]
+
+
+def render_work(width, height, settings) -> int:
+    """What a full image of *settings* costs in the budget's unit (see :data:`MAX_WORK`)."""
+    return int(width) * int(height) * int(settings["spp"]) * int(settings["spectral_samples"]) * int(settings["depth"])
 
 
 def format_number(v) -> str:
@@ -112,9 +132,30 @@ def check_settings_field(name, value):
         return v
     try:
         value = int(value) if isinstance(value, str) and value.strip().lstrip("+-").isdigit() else value
-        return check_setting(name, value)
+        v = check_setting(name, value)
     except ValueError as err:
         raise FieldError(name, str(err)) from None
+    if v > EDITOR_LIMITS[name]:
+        raise FieldError(name, f"{name} must be an integer from 1 to {EDITOR_LIMITS[name]} in the editor (its render"
+                               f" budget; tracer image renders more), got {v}")
+    return v
+
+
+def _fit_budget(settings, width, height):
+    """*settings* within the editor's caps and :data:`MAX_WORK` (spp lowered first, then the
+    bands, then the depth), and a note of each change."""
+    out, notes = dict(settings), []
+    for k, cap in EDITOR_LIMITS.items():
+        if out[k] > cap:
+            notes.append(f"{k} {out[k]} -> {cap}")
+            out[k] = cap
+    for k in ("spp", "spectral_samples", "depth"):
+        work = render_work(width, height, out)
+        if work > MAX_WORK:
+            fit = max(1, out[k] * MAX_WORK // work)
+            notes.append(f"{k} {out[k]} -> {fit}")
+            out[k] = fit
+    return out, notes
 
 
 def _name(name) -> str:
@@ -126,22 +167,47 @@ class EditorModel:
     """The scene being edited: the scene as loaded, the edits since (command lines), the render
     settings, and undo.  ``version`` counts the changes (a preview re-renders when it moves)."""
 
-    def __init__(self, scene: Scene | None = None):
+    def __init__(self, scene: Scene | None = None, size=(960, 960)):
+        self.size = (int(size[0]), int(size[1]))
+        if not (1 <= self.size[0] <= MAX_SIDE and 1 <= self.size[1] <= MAX_SIDE):
+            raise FieldError(None, f"the editor's image is at most {MAX_SIDE} x {MAX_SIDE} pixels, got"
+                                   f" {self.size[0]} x {self.size[1]}")
         self._reset(scene if scene is not None else tracer.default_scene())
 
+    @staticmethod
+    def check_names(scene) -> Scene:
+        """*scene* if every object's and material's name is printable text (a newline in a
+        name would put a line of its own into the commands file), else :class:`FieldError`."""
+        for obj in scene.spheres + scene.bubbles + scene.meshes:
+            for name, what in ((obj.name, "an object's name"),
+                               (getattr(getattr(obj, "material", None), "name", ""), "a material's name")):
+                try:
+                    check_name(name, what)
+                except ValueError as err:
+                    raise FieldError("scene_path", str(err)) from None
+        return scene
+
     def _reset(self, scene):
+        self.check_names(scene)
         self.loaded = scene
         self.settings = {k: scene.render_defaults.get(k, DEFAULTS.get(k, 0.0)) for k in SETTINGS}
         self.settings["exposure"] = float(scene.render_defaults.get("exposure", 0.0))
+        fitted, self.budget_notes = _fit_budget({k: self.settings[k] for k in EDITOR_LIMITS}, *self.size)
+        self.settings.update(fitted)
         self._history = []  # undo steps: ("lines", [line, ...]) or ("settings", previous settings)
         self._timeline = Timeline(scene)
         self.version = getattr(self, "version", 0) + 1
 
     # -- loading ----------------------------------------------------------------------------
-    def load(self, path):
+    def load(self, path, access: FileAccess = ANYWHERE):
         """Load the scene file *path* (either format) and forget the edits; a bad file raises
-        :class:`tracer.SceneError` (``FILE:LINE: ...``) and keeps the scene that was loaded."""
-        self._reset(load_scene(path))
+        :class:`tracer.SceneError` (``FILE:LINE: ...``) and keeps the scene that was loaded.
+        *access*: which files it and its assets may be (:class:`tracer.file_access.FileAccess`)."""
+        return self.replace(load_scene(path, access))
+
+    def replace(self, scene: Scene):
+        """Edit *scene* from now on (a scene read elsewhere: :meth:`load`), forgetting the edits."""
+        self._reset(scene)
         return self
 
     # -- what the lists show ------------------------------------------------------------------
@@ -288,6 +354,13 @@ class EditorModel:
             if name not in SETTINGS:
                 raise FieldError(name, f"unknown setting {name!r} (settings: {', '.join(SETTINGS)})")
             new[name] = check_settings_field(name, value)
+        work = render_work(*self.size, new)
+        if work > MAX_WORK:
+            changed = [k for k in ("spp", "spectral_samples", "depth") if new[k] != self.settings[k]]
+            raise FieldError(changed[0] if changed else "spp",
+                             f"over the editor's render budget: {self.size[0]} x {self.size[1]} pixels x spp {new['spp']}"
+                             f" x bands {new['spectral_samples']} x depth {new['depth']} = {work:.3g}, at most"
+                             f" {MAX_WORK:.3g} (16 times the defaults at 960 x 960)")
         if new != self.settings:
             self._history.append(("settings", dict(self.settings)))
             self.settings = new
@@ -322,15 +395,37 @@ class EditorModel:
         return "\n".join(head + self._lines() + ["render 1"]) + "\n"
 
     def save_commands(self, path) -> Path:
+        """Write :meth:`commands_text` to *path* (atomically)."""
         path = Path(path)
-        path.write_text(self.commands_text(), encoding="utf-8")
+        write_atomically(path, lambda tmp: Path(tmp).write_text(self.commands_text(), encoding="utf-8"))
         return path
 
     def save_scene(self, path) -> Path:
         """**Save scene**: the edited scene as TOML (its render settings in ``[render]``)."""
         from ..toml_writer import save_toml_scene
 
-        return save_toml_scene(self.scene, path, header=f"saved by the scene editor from {self.loaded.source}")
+        return save_toml_scene(self.scene, path, header=self._scene_header())
+
+    def _scene_header(self):
+        return f"saved by the scene editor from {self.loaded.source}"
+
+    def scene_files_maker(self):
+        """For **Save scene**: a function of a name's stem that gives the files of the edited
+        scene as it is now, ``{file name: bytes}``: the TOML file ``stem.toml`` and the arrays
+        it names beside it (an image environment, thickness maps), made in a temporary folder
+        (:meth:`tracer.file_access.FileAccess.save_new` then links them into place)."""
+        import tempfile
+
+        from ..toml_writer import save_toml_scene
+
+        scene, header = self.scene, self._scene_header()
+
+        def files(stem):
+            with tempfile.TemporaryDirectory(prefix="tracer-edit-save-") as tmp:
+                save_toml_scene(scene, Path(tmp) / f"{stem}.toml", header=header)
+                return {p.name: p.read_bytes() for p in sorted(Path(tmp).iterdir())}
+
+        return files
 
     def render_settings(self, width, height) -> dict:
         """Keyword arguments of :func:`tracer.render` for a *width* x *height* image."""

@@ -3,8 +3,9 @@ seen at a picked pixel.
 
 :class:`PreviewRenderer` renders every request first at a quarter of the width and height
 (1/16 of the pixels), then at full resolution, handing each stage to a callback; a newer request
-cancels the render in progress (:func:`tracer.render.render_with_stats`'s ``cancel``) so that
-the person always waits for the latest edit only.
+cancels the render in progress (the kernel's ``stop``: :func:`tracer.render.render_in_parts`) so
+that the person always waits for the latest edit only.  The renders of every editor in the
+process take turns in one thread (:mod:`tracer.editor.scheduler`).
 
 :func:`film_at_pixel` is what the picked pixel shows beside the image: it casts the pixel's
 camera ray (the ray through the pixel's centre, as the renderer's first sample) against the
@@ -19,14 +20,16 @@ pixel's radiance.
 from __future__ import annotations
 
 import math
-import threading
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..output import display_codes
-from ..render import PARALLEL_LOCK, RenderCancelled, render_with_stats
+from ..pack import pack_scene
+from ..render import PARALLEL_LOCK, RenderCancelled, render_in_parts, resolve_settings
+from .scheduler import BACKGROUND, INTERACTIVE, STEP_SECONDS
+from .scheduler import scheduler as default_scheduler
 
 __all__ = ["PreviewRenderer", "PreviewImage", "film_at_pixel", "PREVIEW_DIVISOR"]
 
@@ -47,91 +50,91 @@ class PreviewImage:
 
 
 class PreviewRenderer:
-    """Renders the latest requested scene progressively in one background thread.
+    """Renders the latest requested scene progressively, as jobs of the process's
+    :class:`~tracer.editor.scheduler.RenderScheduler` (shared fairly with every other editor).
 
     ``request(scene, settings, exposure, version)``: *settings* are :func:`tracer.render`
-    keyword arguments (width and height are the full stage's). ``on_image(PreviewImage)`` is
-    called from the worker thread for each finished stage of the latest request; a stage of a
-    request that was overtaken is never delivered.  ``on_error(request_version, exception)``
-    receives a render's failure.
+    keyword arguments (width and height are the full stage's).  The scene is packed once for
+    both stages.  ``on_image(PreviewImage)`` is called from the scheduler's thread for each
+    finished stage of the latest request; a stage of a request that was overtaken is never
+    delivered.  ``on_error(request_version, exception)`` receives a render's failure.
     """
 
-    def __init__(self, on_image, on_error=None, divisor=PREVIEW_DIVISOR):
+    def __init__(self, on_image, on_error=None, divisor=PREVIEW_DIVISOR, scheduler=None):
         self.on_image = on_image
         self.on_error = on_error
         self.divisor = divisor
-        self._lock = threading.Condition()
-        self._job = None
-        self._cancel = threading.Event()
+        self._scheduler = scheduler or default_scheduler()
         self._closed = False
-        self.busy = False
-        self._thread = threading.Thread(target=self._run, name="tracer-editor-preview", daemon=True)
-        self._thread.start()
 
     def request(self, scene, settings, exposure=0.0, version=0):
-        """Render *scene* (cancelling any render in progress)."""
-        with self._lock:
-            self._job = (scene, dict(settings), float(exposure), version)
-            self._cancel.set()
-            self._lock.notify()
+        """Render *scene* (cancelling any render of this preview in progress)."""
+        if self._closed:
+            return
+        job = (scene, dict(settings), float(exposure), version)
+        on_error = None if self.on_error is None else (lambda exc: self.on_error(version, exc))
+        self._scheduler.submit(self, "render", lambda cancel: self._stages(job, cancel), on_error)
+
+    def pick(self, scene, col, row, width, height, on_pick):
+        """The film at a picked pixel (:func:`film_at_pixel`), as an interactive job:
+        ``on_pick(FilmSample or None)`` from the scheduler's thread."""
+        if self._closed:
+            return
+
+        def steps(cancel):
+            sample = _film_at_pixel(scene, col, row, width, height) if scene.bubbles else None
+            if not cancel.is_set():
+                on_pick(sample)
+            return
+            yield  # a generator of one step
+
+        self._scheduler.submit(self, "pick", steps)
 
     def close(self):
-        with self._lock:
-            self._closed = True
-            self._cancel.set()
-            self._lock.notify()
+        """Cancel this preview's renders (their kernels stop at their next ray)."""
+        self._closed = True
+        self._scheduler.cancel(self)
+
+    @property
+    def busy(self) -> bool:
+        return not self._scheduler.idle(self, timeout=0)
 
     def idle(self, timeout=None) -> bool:
-        """Wait until no request is pending or rendering (True), or *timeout* seconds (False)."""
-        end = None if timeout is None else time.monotonic() + timeout
-        with self._lock:
-            while self._job is not None or self.busy:
-                left = None if end is None else end - time.monotonic()
-                if left is not None and left <= 0:
-                    return False
-                self._lock.wait(left if left is not None else 0.05)
-        return True
+        """Wait until no request of this preview is pending or rendering (True), or *timeout*
+        seconds (False)."""
+        return self._scheduler.idle(self, timeout)
 
-    def _run(self):
-        while True:
-            with self._lock:
-                while self._job is None and not self._closed:
-                    self._lock.wait()
-                if self._closed:
-                    return
-                job, self._job = self._job, None
-                self._cancel = cancel = threading.Event()
-                self.busy = True
-            try:
-                self._render(job, cancel)
-            except RenderCancelled:
-                pass
-            except Exception as exc:  # reported, and the thread lives on for the next request
-                if self.on_error is not None:
-                    self.on_error(job[3], exc)
-            finally:
-                with self._lock:
-                    self.busy = False
-                    self._lock.notify_all()
-
-    def _render(self, job, cancel):
+    def _stages(self, job, cancel):
+        """The job's steps: settings and packing, the preview stage in one step, the full
+        stage in parts of about STEP_SECONDS."""
         scene, settings, exposure, version = job
-        w, h = settings["width"], settings["height"]
+        s = resolve_settings(scene, **settings)
+        packed = pack_scene(scene, spectral_samples=s["spectral_samples"], spectral_method=s["spectral_method"])
+        w, h = s["width"], s["height"]
         d = self.divisor
         stages = [("preview", max(1, w // d), max(1, h // d))] if d > 1 and min(w, h) >= d else []
         stages.append(("full", w, h))
         for stage, sw, sh in stages:
+            yield INTERACTIVE if stage == "preview" else BACKGROUND
+            busy = 0.0  # this stage's own time, not the turns of other editors' jobs
             t0 = time.perf_counter()
-            # the whole stage under the lock: packing and the display codes run parallel kernels
-            # too, which must not meet another thread's (another session's render, a picked pixel)
-            with PARALLEL_LOCK:
-                image, _ = render_with_stats(scene, **{**settings, "width": sw, "height": sh}, progress=False,
-                                             cancel=cancel)
-                codes = display_codes(image, exposure=exposure)
+            parts = render_in_parts(packed, {**s, "width": sw, "height": sh}, stop=cancel,
+                                    call_seconds=STEP_SECONDS if stage == "full" else 1e9)
+            while True:
+                try:
+                    next(parts)
+                except StopIteration as finished:
+                    image = finished.value[0]
+                    break
+                if stage == "full":
+                    busy += time.perf_counter() - t0
+                    yield BACKGROUND
+                    t0 = time.perf_counter()
+            codes = display_codes(image, exposure=exposure)
+            busy += time.perf_counter() - t0
             if cancel.is_set():
                 raise RenderCancelled("overtaken")
-            self.on_image(PreviewImage(codes, stage, version, time.perf_counter() - t0,
-                                       image if stage == "full" else None))
+            self.on_image(PreviewImage(codes, stage, version, busy, image if stage == "full" else None))
 
 
 # ------------------------------------------------------------------------------------------

@@ -37,31 +37,52 @@ def chromium_path():
     return None
 
 
+class Served(str):
+    """The URL of a served editor (with its token), and what the tests need besides:
+    ``port``, ``token``, ``base`` (the URL without the token), ``proc`` (the process) and
+    :meth:`log` (what it printed so far)."""
+
+    def log(self) -> str:
+        self._log.seek(0)
+        return self._log.read()
+
+
 @contextmanager
-def editor_server(scene=None, *, width=320, height=320, cwd=None, timeout=120, stop=signal.SIGTERM):
-    """``tracer edit --no-browser`` in a subprocess on a free port; yields its URL, then stops it
-    with the signal *stop* (SIGTERM; SIGINT is Ctrl-C) and checks that it exits with status 0."""
+def editor_server(scene=None, *, width=320, height=320, cwd=None, timeout=120, stop=signal.SIGTERM, args=(),
+                  check_exit=True):
+    """``tracer edit --no-browser`` in a subprocess on a free port, with extra command-line
+    *args*; yields its URL (a :class:`Served`: the token in its query), then stops it with the
+    signal *stop* (SIGTERM; SIGINT is Ctrl-C) and checks that it exits with status 0."""
+    import re
+
     from .app import free_port
 
     port = free_port()
     cmd = [sys.executable, "-m", "tracer", "edit", "--no-browser", "--port", str(port), "--width", str(width),
-           "--height", str(height)] + ([os.fspath(scene)] if scene is not None else [])
+           "--height", str(height), *args] + ([os.fspath(scene)] if scene is not None else [])
     log = tempfile.TemporaryFile(mode="w+")  # not a pipe: a full pipe would stall the server
     proc = subprocess.Popen(cmd, cwd=cwd, stdout=log, stderr=subprocess.STDOUT, text=True)
-    url = f"http://127.0.0.1:{port}/"
     end = time.monotonic() + timeout
     try:
         while True:
             if proc.poll() is not None:
                 log.seek(0)
                 raise RuntimeError(f"tracer edit exited with {proc.returncode}: {log.read()[-2000:]}")
-            try:  # a connection, not a request: a GET of the page would open an editor session
-                socket.create_connection(("127.0.0.1", port), timeout=2).close()
-                break
-            except OSError:
-                if time.monotonic() > end:
-                    raise RuntimeError("tracer edit did not start") from None
-                time.sleep(0.2)
+            log.seek(0)
+            m = re.search(r"serving (http://\S+)", log.read())
+            if m:
+                try:  # a connection, not a request: a GET of the page would open an editor session
+                    socket.create_connection(("127.0.0.1", port), timeout=2).close()
+                    break
+                except OSError:
+                    pass
+            if time.monotonic() > end:
+                raise RuntimeError("tracer edit did not start")
+            time.sleep(0.1)
+        url = Served(m.group(1))
+        url.port, url.proc, url._log = port, proc, log
+        url.token = (re.search(r"[?&]token=([^&]+)", url) or [None, None])[1]
+        url.base = f"http://127.0.0.1:{port}/"
         yield url
     finally:
         proc.send_signal(stop)
@@ -71,19 +92,22 @@ def editor_server(scene=None, *, width=320, height=320, cwd=None, timeout=120, s
             proc.kill()
             proc.wait()
         log.close()
-    if proc.returncode != 0:
+    if check_exit and proc.returncode != 0:
         raise RuntimeError(f"tracer edit did not stop cleanly on signal {stop} (status {proc.returncode})")
 
 
 @contextmanager
-def launch(path=None):
-    """A headless Chromium (Playwright's sync API) launched by its path."""
+def launch(path=None, args=()):
+    """A headless Chromium (Playwright's sync API) launched by its path, with extra *args*
+    (e.g. ``--host-resolver-rules=...``)."""
     from playwright.sync_api import sync_playwright
 
     path = path or chromium_path()
-    args = ["--no-sandbox"] if hasattr(os, "geteuid") and os.geteuid() == 0 else []
+    flags = ["--no-sandbox"] if hasattr(os, "geteuid") and os.geteuid() == 0 else []
+    flags += ["--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync",
+              "--no-first-run", *args]
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=path, args=args + ["--disable-gpu"])
+        browser = p.chromium.launch(executable_path=path, args=flags)
         try:
             yield browser
         finally:
