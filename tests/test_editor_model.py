@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import doctest
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -248,3 +249,119 @@ def test_editor_in_a_notebook_cell():
     assert any("application/vnd.holoviews_exec.v0+json" in o.get("data", {}) for o in outputs)
     assert not [o for o in outputs if o.get("output_type") == "error" or o.get("name") == "stderr"]
     assert outputs[-1].get("text", "").strip() == "rendered"
+
+
+# ------------------------------------------------------------------------------------------
+# the render scheduler (every editor's renders, in turns) and the render budget
+# ------------------------------------------------------------------------------------------
+def _logging_job(log, name, steps, priority, started=None):
+    from tracer.editor.scheduler import BACKGROUND  # noqa: F401
+
+    def make(cancel):
+        for i in range(steps):
+            if started is not None:
+                started.set()
+            log.append((name, i))
+            time.sleep(0.005)
+            yield priority
+
+    return make
+
+
+def test_scheduler_runs_a_preview_before_the_next_step_of_a_long_render():
+    from tracer.editor.scheduler import BACKGROUND, INTERACTIVE, RenderScheduler
+
+    sched, log = RenderScheduler(), []
+    a, b = object(), object()
+    started = threading.Event()
+    sched.submit(a, "render", _logging_job(log, "A", 200, BACKGROUND, started))
+    assert started.wait(10)
+    time.sleep(0.05)
+    n_before = len(log)
+    sched.submit(b, "render", _logging_job(log, "B", 1, INTERACTIVE))
+    assert sched.idle(b, timeout=30)
+    at = log.index(("B", 0))
+    assert at - n_before <= 2  # at most the step in progress (and one racing the submit) came first
+    assert sched.close(timeout=5)
+
+
+def test_scheduler_shares_turns_between_owners_and_cancels():
+    from tracer.editor.scheduler import BACKGROUND, RenderScheduler
+
+    sched, log = RenderScheduler(), []
+    a, b = object(), object()
+    gate = threading.Event()
+
+    def blocked(cancel):  # holds the thread until both jobs are queued
+        gate.wait(10)
+        yield BACKGROUND
+
+    sched.submit(object(), "render", blocked)
+    sched.submit(a, "render", _logging_job(log, "A", 10, BACKGROUND))
+    sched.submit(b, "render", _logging_job(log, "B", 10, BACKGROUND))
+    gate.set()
+    assert sched.idle(timeout=30)
+    names = [n for n, _ in log]
+    assert sorted(names) == ["A"] * 10 + ["B"] * 10
+    assert max(len(run) for run in "".join(names).replace("AB", "A B").replace("BA", "B A").split()) <= 2
+    # a new job of the same kind replaces (cancels) the old; cancel() stops an owner's jobs
+    log.clear()
+    started = threading.Event()
+    sched.submit(a, "render", _logging_job(log, "old", 10_000, BACKGROUND, started))
+    assert started.wait(10)
+    sched.submit(a, "render", _logging_job(log, "new", 3, BACKGROUND))
+    assert sched.idle(a, timeout=30)
+    assert [n for n, _ in log].count("new") == 3 and [n for n, _ in log].count("old") < 50
+    sched.submit(b, "render", _logging_job(log, "gone", 10_000, BACKGROUND))
+    sched.cancel(b)
+    assert sched.idle(b, timeout=5)
+    assert [n for n, _ in log].count("gone") <= 1
+    assert sched.close(timeout=5)
+
+
+def test_a_cancelled_render_stops_mid_stage():
+    """The kernel polls the job's cancel event: a full render stops at its next ray, not at the
+    end of its stage (a closed tab's render ends at once)."""
+    from tracer.editor.preview import PreviewRenderer
+
+    stages = []
+    pr = PreviewRenderer(lambda im: stages.append(im.stage))
+    pr.request(tracer.default_scene(), dict(width=256, height=256, spp=64, depth=10), version=1)
+    t0 = time.monotonic()
+    while "preview" not in stages and time.monotonic() - t0 < 120:
+        time.sleep(0.01)
+    pr.close()
+    assert pr.idle(timeout=10)
+    assert stages == ["preview"]  # the full stage (64 spp) never finished
+
+
+def test_render_budget_caps_each_setting_and_their_product():
+    from tracer.editor.model import EDITOR_LIMITS, MAX_WORK, EditorModel, FieldError, render_work
+
+    m = EditorModel(size=(960, 960))
+    for name, value, cap in (("depth", 1000, 64), ("spp", 65536, 256), ("spectral_samples", 421, 128)):
+        with pytest.raises(FieldError, match=f"{name} must be an integer from 1 to {cap} in the editor"):
+            m.set_settings(**{name: value})
+        assert EDITOR_LIMITS[name] == cap
+    with pytest.raises(FieldError, match="over the editor's render budget") as info:
+        m.set_settings(spp=64)
+    assert info.value.field == "spp" and m.settings["spp"] == 1
+    m.set_settings(spp=16)  # exactly 16 times the defaults' work
+    assert render_work(960, 960, m.settings) == MAX_WORK
+    # a scene asking for more is loaded within the budget, and says so
+    heavy = tracer.default_scene()
+    heavy.render_defaults = {"depth": 1000, "spp": 4096, "spectral_samples": 64}
+    m2 = EditorModel(heavy, size=(960, 960))
+    assert render_work(960, 960, m2.settings) <= MAX_WORK and m2.settings["depth"] == 64
+    assert any(n.startswith("depth 1000 -> 64") for n in m2.budget_notes)
+    with pytest.raises(FieldError, match="at most 4096 x 4096"):
+        EditorModel(size=(5000, 10))
+
+
+def test_editor_refuses_a_scene_whose_names_have_control_characters():
+    from tracer.editor.model import EditorModel, FieldError
+
+    scene = tracer.default_scene()
+    scene.bubbles[0].name = "young\nrender 1000000"
+    with pytest.raises(FieldError, match="control character"):
+        EditorModel(scene)

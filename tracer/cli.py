@@ -173,9 +173,17 @@ def build_parser():
     tok.add_argument("--token", help="the token the page asks for (default: a new random one, printed in the URL)")
     tok.add_argument("--no-token", action="store_true", help="no token: only with a loopback --address (every user of"
                                                              " this machine can then use the editor as you)")
+    ed.add_argument("--max-sessions", type=_max_sessions, default=None, metavar="N",
+                    help="the most editor tabs open at once (1 to 64; default 8)")
     ed.add_argument("--allow-host", action="append", default=[], metavar="NAME",
                     help="a host name besides this machine's that requests may be addressed to (a proxy's)")
     return parser
+
+
+def _max_sessions(text):
+    if not (text.isascii() and text.isdigit()) or not 1 <= int(text) <= 64:
+        raise argparse.ArgumentTypeError(f"must be an integer from 1 to 64, got {text[:40]!r}")
+    return int(text)
 
 
 def _port(text):
@@ -208,7 +216,8 @@ def _edit(args):
     try:
         scene = _load_scene(args.scene) if args.scene else None
         return serve(scene, port=args.port, address=args.address, show=not args.no_browser, width=args.width,
-                     height=args.height, root=root, token=token, allow_hosts=args.allow_host)
+                     height=args.height, root=root, token=token, allow_hosts=args.allow_host,
+                     **({} if args.max_sessions is None else {"max_sessions": args.max_sessions}))
     except SceneError as err:
         return _fail(str(err))
     except ValueError as err:  # a name the editor refuses, an option out of range

@@ -196,12 +196,20 @@ class FileAccess:
         a temporary file and linked to its name (``os.link`` fails if the name exists, so a
         name taken meanwhile is never overwritten); a failure removes what it wrote.
         """
-        full = self.resolve(text)
+        raw = Path(os.fspath(text))
+        if raw.name in ("", ".", ".."):
+            raise FileAccessError(text, "give a file name")
+        # the folder resolved (and confined); the name itself taken as it is, never followed:
+        # a symbolic link of that name counts as a file that exists
+        full = self.resolve(raw.parent if str(raw.parent) else ".") / raw.name
         suffix = full.suffix.lower()
         if suffix not in suffixes:
             want = " or ".join(suffixes)
             raise FileAccessError(text, f"give a name ending in {want}")
-        check_name(full.name, "the file name")
+        try:
+            check_name(full.name, "the file name")
+        except ValueError as exc:
+            raise FileAccessError(text, str(exc)) from None
         folder = full.parent
         if not folder.is_dir():
             raise FileAccessError(text, f"no folder {self.relative(folder)!r} to write into")

@@ -215,7 +215,7 @@ class _Ctx:
         if base is not None:
             self.base = Path(base)
         elif path != "<string>":
-            self.base = Path(path).resolve().parent
+            self.base = access.resolve(path).parent  # relative to the root, when confined
         else:
             self.base = access.root or Path.cwd()
         self._loc = None
