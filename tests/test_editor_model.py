@@ -106,7 +106,7 @@ def test_render_cancel_hook():
     assert np.array_equal(image, _render(tracer.default_scene()))
 
 
-def test_preview_renders_quarter_then_full_and_drops_overtaken_requests():
+def test_preview_renders_small_then_full_and_drops_overtaken_requests():
     got = []
     done = threading.Event()
 
@@ -121,7 +121,7 @@ def test_preview_renders_quarter_then_full_and_drops_overtaken_requests():
     pr.request(scene, dict(width=96, height=96, depth=2), version=2)
     assert done.wait(120)
     pr.close()
-    assert got[-2:] == [(2, "preview", (24, 24, 3)), (2, "full", (96, 96, 3))]
+    assert got[-2:] == [(2, "preview", (16, 16, 3)), (2, "full", (96, 96, 3))]
     assert all(v in (1, 2) for v, _, _ in got) and got.count((1, "full", (96, 96, 3))) <= 1
 
 

@@ -8,8 +8,9 @@ is the preview (a Bokeh image: click it to pick a pixel) and the picked pixel's 
 reflectance spectrum and colour (:func:`tracer.editor.preview.film_at_pixel`).
 
 Every edit goes through :class:`tracer.editor.model.EditorModel`; a bad value shows its message
-under its field and changes nothing (the previous image stays).  Each change renders a
-quarter-size preview, then the full image (:class:`tracer.editor.preview.PreviewRenderer`).
+under its field and changes nothing (the previous image stays).  Each change renders a small
+preview (a sixth of the width and height), then the full image
+(:class:`tracer.editor.preview.PreviewRenderer`).
 
 Files are read and written through a :class:`tracer.file_access.FileAccess`: a served editor
 confines them to its root folder, reads regular files only within a size limit, and never
@@ -608,7 +609,7 @@ class EditorApp:
 
     # -- rendering --------------------------------------------------------------------------
     def refresh(self):
-        """Render the model's scene: a quarter-size preview, then the full image."""
+        """Render the model's scene: a small preview, then the full image."""
         self.preview.request(self.model.scene, self.model.render_settings(self.width, self.height),
                              self.model.settings["exposure"], self.model.version)
 

@@ -1,8 +1,8 @@
 """The editor's preview: a progressive, cancellable render in a background thread, and the film
 seen at a picked pixel.
 
-:class:`PreviewRenderer` renders every request first at a quarter of the width and height
-(1/16 of the pixels), then at full resolution, handing each stage to a callback; a newer request
+:class:`PreviewRenderer` renders every request first at a sixth of the width and height
+(1/36 of the pixels), then at full resolution, handing each stage to a callback; a newer request
 cancels the render in progress (the kernel's ``stop``: :func:`tracer.render.render_in_parts`) so
 that the person always waits for the latest edit only.  The renders of every editor in the
 process take turns in one thread (:mod:`tracer.editor.scheduler`).
@@ -33,8 +33,10 @@ from .scheduler import scheduler as default_scheduler
 
 __all__ = ["PreviewRenderer", "PreviewImage", "film_at_pixel", "PREVIEW_DIVISOR"]
 
-#: The first stage's image is the full one's width and height divided by this.
-PREVIEW_DIVISOR = 4
+#: The first stage's image is the full one's width and height divided by this (160 x 160 of a
+#: 960 x 960 image, 1/36 of its pixels: about a third of the page's 560-pixel view, refined
+#: within a second; docs/editor.md gives the latency this buys).
+PREVIEW_DIVISOR = 6
 
 
 @dataclass
