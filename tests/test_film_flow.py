@@ -263,17 +263,17 @@ def test_series_save_load_and_interpolation(tmp_path):
 @pytest.mark.parametrize(
     "make, message",
     [
-        (lambda: FilmParameters(h0=0.0), "h0 must be a finite number > 0"),
+        (lambda: FilmParameters(h0=0.0), r"h0 must be a finite number in \[1e-09, 0.001\] m \(got 0.0\)"),
         (lambda: FilmParameters(viscosity=float("nan")), "viscosity must be a finite"),
         (lambda: FilmParameters(perturbation=0.5), r"perturbation must be a finite number in \[0, 0.5\)"),
-        (lambda: FilmParameters(evaporation=-1e-9), "evaporation must be a finite number >= 0"),
+        (lambda: FilmParameters(evaporation=-1e-9), r"evaporation must be a finite number in \[0, 0.0001\]"),
         (lambda: FilmParameters(surfactant=1e-3), "surfactant must be <"),
         (lambda: FilmGrid(3, 16, 0.04), r"n_theta must be an integer in \[4, 4096\]"),
         (lambda: FilmGrid(8, 8.0, 0.04), "n_phi must be an integer"),
-        (lambda: FilmGrid(8, 16, -1.0), "radius must be a finite number > 0"),
+        (lambda: FilmGrid(8, 16, -1.0), r"radius must be a finite number in \[0.0001, 10\] m"),
         (lambda: PlugFlow(FilmParameters(), FilmGrid(8, 16, 0.05)), "grid.radius must equal params.radius"),
         (lambda: PlugFlow(grid=FilmGrid(8, 16, 0.04)).step(PlugFlow().initial_state(0), 0.005), "state.h must"),
-        (lambda: PlugFlow(grid=FilmGrid(8, 16, 0.04)).run(t_end=0.01, dt=0.0), "dt must be a finite number > 0"),
+        (lambda: PlugFlow(grid=FilmGrid(8, 16, 0.04)).run(t_end=0.01, dt=0.0), r"dt must be a finite number in \[1e-09, 1e\+06\] s"),
         (lambda: RigidDrainage(grid=FilmGrid(8, 16, 0.04)).run(t_end=0.011, dt=0.005), "t_end must be a whole"),
         (lambda: RigidDrainage(grid=FilmGrid(8, 16, 0.04)).initial_state(-1), "seed must be an integer >= 0"),
         (lambda: RigidDrainage(grid=FilmGrid(8, 16, 0.04)).run(t_end=0.01, dt=0.005, save_every=0), "save_every"),
@@ -283,3 +283,135 @@ def test_bad_inputs_are_refused_with_one_line(make, message):
     with pytest.raises(ValueError, match=message) as info:
         make()
     assert "\n" not in str(info.value)
+
+
+# ---------------------------------------------------------------- limits (bubbleoptics.filmflow.limits)
+from bubbleoptics.filmflow import limits as ff_limits  # noqa: E402
+from bubbleoptics.filmflow.limits import MAX_STEPS, PARAMETER_LIMITS, RUN_LIMITS  # noqa: E402
+
+
+@pytest.mark.api
+@pytest.mark.parametrize("name", sorted(PARAMETER_LIMITS))
+def test_every_parameter_is_limited_to_its_stated_range(name):
+    """Each field: its two ends accepted (the surfactant's top end is the σ > 0 bound's), and
+    just outside them, NaN, an int beyond the float range and a bool refused, in one line
+    naming the field, its unit and the range."""
+    lo, hi, unit, open_hi = PARAMETER_LIMITS[name]
+    base = {} if name == "surfactant" else dict(surfactant=1e-9)  # far from the σ > 0 bound
+    assert FilmParameters(**base, **{name: lo}).to_dict()[name] == lo
+    if name == "surfactant":
+        with pytest.raises(ValueError, match="surfactant must be < sigma_w"):
+            FilmParameters(surfactant=hi)
+    elif not open_hi:
+        assert FilmParameters(**base, **{name: hi}).to_dict()[name] == hi
+    below = -1.0 if lo == 0 else lo / 2
+    for bad in (below, hi * 2, float("nan"), float("inf"), 10**400, True, "1"):
+        with pytest.raises(ValueError) as info:
+            FilmParameters(**{name: bad})
+        message = str(info.value)
+        assert message.startswith(f"{name} must be a finite number in [{lo:g}, {hi:g}") and unit in message
+        assert "\n" not in message and len(message) < 200
+
+
+@pytest.mark.api
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(t_end=10**400, dt=0.005), r"t_end must be a finite number in \[1e-09, 1e\+09\] s"),
+    (dict(t_end=1e300, dt=1e-300), r"t_end must be a finite number in \[1e-09, 1e\+09\] s"),
+    (dict(t_end=1.0, dt=1e-300), r"dt must be a finite number in \[1e-09, 1e\+06\] s"),
+    (dict(t_end=1e6, dt=1e-6), f"t_end / dt = 1e\\+12 steps, more than the {MAX_STEPS:,} a run may take"),
+    (dict(t_end=1.0, dt=float("nan")), "dt must be a finite number"),
+])
+def test_a_run_is_refused_before_its_first_step(kwargs, message):
+    m = RigidDrainage(grid=FilmGrid(8, 16, 0.04))
+    with pytest.raises(ValueError, match=message) as info:
+        m.run(**kwargs)
+    assert "\n" not in str(info.value) and m.last_state is None  # no step was taken
+
+
+@pytest.mark.api
+def test_a_run_that_would_not_fit_in_memory_is_refused_with_the_estimate(monkeypatch):
+    monkeypatch.setattr(ff_limits, "available_memory_bytes", lambda: 2 * 2**20)  # 2 MiB
+    m = RigidDrainage(grid=FilmGrid(64, 128, 0.04))  # its working arrays: 0.5 MiB
+    with pytest.raises(ValueError, match=r"run\(\) keeping 101 frames of 64 x 128 .* needs about 0.00308 GiB, "
+                                         r"more than the 0.00195 GiB of memory available"):
+        m.run(t_end=1.0, dt=0.01)
+    assert m.last_state is None
+    assert len(m.run(t_end=1.0, dt=0.01, save_every=50)) == 3  # fewer kept frames fit
+    with pytest.raises(ValueError, match=r"a PlugFlow model of a 128 x 256 grid \(its working arrays\) needs about"):
+        PlugFlow(grid=FilmGrid(128, 256, 0.04))
+
+
+@pytest.mark.api
+def test_run_keeps_its_frames_in_one_float32_array_without_copies():
+    """The kept frames are written into one preallocated float32 array: the run's peak traced
+    allocation is that array and a few frames, not a list of float64 frames plus a stacked copy."""
+    import tracemalloc
+
+    m = RigidDrainage(FilmParameters(**STILL), FilmGrid(64, 128, 0.04))
+    m.run(t_end=0.02, dt=0.01)  # compiled (or loaded) before tracing
+    tracemalloc.start()
+    try:
+        series = m.run(t_end=2.0, dt=0.01)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    kept = series.h_nm.nbytes
+    assert series.h_nm.dtype == np.float32 and series.h_nm.flags.c_contiguous and len(series) == 201
+    assert peak < kept + 10 * 64 * 128 * 8, (peak, kept)  # the frames, and ten float64 frames of slack
+
+
+@pytest.mark.api
+def test_a_state_that_is_not_finite_is_refused():
+    m = PlugFlow(grid=FilmGrid(8, 16, 0.04))
+    s = m.initial_state(0)
+    h = s.h.copy()
+    h[3, 4] = np.nan
+    with pytest.raises(ValueError, match=r"state.h must be finite and >= 0"):
+        m.step(FilmState(0.0, h, s.gamma, s.v_theta, s.v_phi), 0.005)
+
+
+def _box_value(draw_fraction, name, table):
+    """A value of *name* at a fraction in [0, 1] of its range, log-spaced when the range is."""
+    lo, hi, _, open_hi = table[name]
+    hi = math.nextafter(hi, lo) if open_hi else hi
+    if lo > 0:
+        value = math.exp(math.log(lo) + draw_fraction * (math.log(hi) - math.log(lo)))
+    else:
+        value = lo + draw_fraction * (hi - lo)
+    return min(max(value, lo), hi)  # the ends exactly, whatever exp and log round to
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_FRACTION = st.one_of(st.just(0.0), st.just(1.0), st.floats(0.0, 1.0))
+
+
+@pytest.mark.property
+@settings(max_examples=60)
+@given(fractions=st.fixed_dictionaries({n: _FRACTION for n in PARAMETER_LIMITS}), dt_fraction=_FRACTION,
+       default_drag=st.booleans())
+def test_a_step_anywhere_in_the_limits_is_finite_or_refused_never_nan(fractions, dt_fraction, default_drag):
+    """Parameters anywhere in the box of PARAMETER_LIMITS (its corners included) and any dt in
+    RUN_LIMITS: two steps of either model give a finite state with h >= 0, or a one-line
+    ValueError (a dt too long for the scheme); never NaN or infinity."""
+    kw = {n: _box_value(f, n, PARAMETER_LIMITS) for n, f in fractions.items()}
+    if default_drag:
+        kw["air_drag"] = None
+    try:
+        p = FilmParameters(**kw)
+    except ValueError as err:
+        assert str(err).startswith("surfactant must be < sigma_w")  # the one bound across fields
+        return
+    dt = _box_value(dt_fraction, "dt", RUN_LIMITS)
+    for model in (RigidDrainage, PlugFlow):
+        m = model(p, FilmGrid(8, 16, p.radius))
+        s = m.initial_state(0)
+        try:
+            for _ in range(2):
+                s = m.step(s, dt)
+        except ValueError as err:
+            assert "\n" not in str(err) and "dt" in str(err)
+            continue
+        fields = [f for f in (s.h, s.gamma, s.v_theta, s.v_phi) if f is not None]
+        assert all(np.isfinite(f).all() for f in fields) and s.h.min() >= 0

@@ -33,9 +33,9 @@ from __future__ import annotations
 import math
 import numbers
 import operator
-import os
 
 from bubbleoptics.colorimetry import MAX_BANDS
+from bubbleoptics.resources import available_memory_bytes, gib as _gib
 
 __all__ = [
     "LIMITS",
@@ -137,29 +137,9 @@ def check_settings(settings: dict, names=None) -> dict:
     return out
 
 
-def available_memory_bytes():
-    """Memory a new allocation can use now, in bytes (Linux ``MemAvailable``; else the
-    physical memory; None where neither is known)."""
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return None
-
-
 def render_bytes(width, height, bytes_per_pixel=BYTES_PER_PIXEL):
     """What rendering and saving a *width* x *height* image needs, in bytes (an estimate)."""
     return int(width) * int(height) * int(bytes_per_pixel)
-
-
-def _gib(n):
-    return f"{n / 2**30:.3g} GiB"
 
 
 def check_memory(width, height, bytes_per_pixel=BYTES_PER_PIXEL, available=None):

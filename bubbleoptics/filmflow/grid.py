@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .limits import PARAMETER_LIMITS, check_number
+
 __all__ = ["FilmGrid"]
 
 #: grid sizes accepted: 4 <= n_theta <= 4096, 4 <= n_phi <= 8192
@@ -27,7 +29,8 @@ MIN_THETA, MAX_THETA = 4, 4096
 
 @dataclass(frozen=True)
 class FilmGrid:
-    """A lat-long grid of ``n_theta`` x ``n_phi`` cells on a sphere of radius *radius* (m).
+    """A lat-long grid of ``n_theta`` x ``n_phi`` cells on a sphere of radius *radius* (m, within
+    the limits of ``FilmParameters.radius``, :mod:`bubbleoptics.filmflow.limits`).
 
     Attributes (NumPy arrays, SI units): ``theta`` (n_theta,) cell-centre polar angles,
     ``phi`` (n_phi,) cell-centre azimuths, ``theta_faces`` (n_theta + 1,), ``area`` (n_theta,)
@@ -57,12 +60,8 @@ class FilmGrid:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not MIN_THETA <= v <= hi:
                 raise ValueError(f"{name} must be an integer in [{MIN_THETA}, {hi}] (got {v!r})")
-        r = self.radius
-        if isinstance(r, bool) or not isinstance(r, (int, float, np.floating, np.integer)) or not (
-            math.isfinite(r) and r > 0
-        ):
-            raise ValueError(f"radius must be a finite number > 0 in m (got {r!r})")
-        nt, nph, r = int(self.n_theta), int(self.n_phi), float(r)
+        r = check_number("radius", self.radius, PARAMETER_LIMITS)
+        nt, nph = int(self.n_theta), int(self.n_phi)
         object.__setattr__(self, "n_theta", nt)
         object.__setattr__(self, "n_phi", nph)
         object.__setattr__(self, "radius", r)

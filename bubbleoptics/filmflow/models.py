@@ -17,6 +17,7 @@ import numpy as np
 
 from . import _kernels as K
 from .grid import FilmGrid
+from .limits import MAX_STEPS, RUN_LIMITS, check_memory, check_number, kept_frames
 from .parameters import GAS_CONSTANT, FilmParameters
 from .series import ThicknessSeries
 
@@ -85,18 +86,18 @@ def _check_seed(seed):
     return int(seed)
 
 
-def _check_positive(name, value, unit):
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) or not (
-        math.isfinite(value) and value > 0
-    ):
-        raise ValueError(f"{name} must be a finite number > 0 in {unit} (got {value!r})")
-    return float(value)
+def _finite(a):
+    """True when every value of the float array *a* is finite: one pass, no temporary (a sum
+    of finite film values cannot overflow, any NaN or infinity makes it non-finite)."""
+    return bool(np.isfinite(np.sum(a)))
 
 
 class _FilmModel:
     """What both models share: parameters, grid, input checks and the time loop."""
 
     name = "film"
+    #: bytes of working arrays a model needs per cell (its scratch, a state and the next one)
+    BYTES_PER_CELL = 8 * 8
 
     def __init__(self, params=None, grid=None):
         if params is None:
@@ -109,6 +110,9 @@ class _FilmModel:
             raise ValueError(f"grid must be a FilmGrid (got {type(grid).__name__})")
         if grid.radius != params.radius:
             raise ValueError(f"grid.radius must equal params.radius = {params.radius} m (got {grid.radius})")
+        cells = grid.n_theta * grid.n_phi
+        check_memory(self.BYTES_PER_CELL * cells,
+                     f"a {type(self).__name__} model of a {grid.n_theta} x {grid.n_phi} grid (its working arrays)")
         self.params = params
         self.grid = grid
         self.last_state = None  # the state at the end of the last run()
@@ -130,9 +134,21 @@ class _FilmModel:
             raise ValueError(f"state must be a FilmState (got {type(state).__name__})")
         if state.h.shape != (self.grid.n_theta, self.grid.n_phi):
             raise ValueError(f"state.h must have shape ({self.grid.n_theta}, {self.grid.n_phi}) (got {state.h.shape})")
+        if not (_finite(state.h) and state.h.min() >= 0):
+            raise ValueError("state.h must be finite and >= 0 (m)")
 
     def _check_dt(self, dt):
-        return _check_positive("dt", dt, "s")
+        return check_number("dt", dt, RUN_LIMITS)
+
+    def _checked_result(self, state, dt):
+        """*state* (the result of a step of *dt*) if every field of it is finite, else ValueError:
+        a step never returns NaN or infinity."""
+        fields = [f for f in (state.h, state.gamma, state.v_theta, state.v_phi) if f is not None]
+        if not (all(_finite(f) for f in fields) and math.isfinite(state.evaporated)):
+            raise ValueError(f"{self.name}: the film is no longer finite after a step of dt = {dt:g} s at t = "
+                             f"{state.time:g} s (this dt or these parameters are beyond what the scheme resolves: "
+                             "use a shorter dt)")
+        return state
 
     def _initial_h(self, seed):
         p = self.params
@@ -147,35 +163,49 @@ class _FilmModel:
         after every saved step.  Returns a :class:`ThicknessSeries` (h in nm); the state at the
         end is kept as ``self.last_state`` (pass it as *state* to go on).
         """
-        t_end = _check_positive("t_end", t_end, "s")
+        t_end = check_number("t_end", t_end, RUN_LIMITS)
         dt = self._check_dt(dt)
         if isinstance(save_every, bool) or not isinstance(save_every, (int, np.integer)) or save_every < 1:
             raise ValueError(f"save_every must be an integer >= 1 (got {save_every!r})")
-        n_steps = int(round(t_end / dt))
+        ratio = t_end / dt  # finite: both are within RUN_LIMITS
+        if ratio > MAX_STEPS + 0.5:
+            raise ValueError(f"t_end / dt = {ratio:.4g} steps, more than the {MAX_STEPS:,} a run may take "
+                             f"(t_end = {t_end:g} s, dt = {dt:g} s): use a longer dt or a shorter t_end")
+        n_steps = int(round(ratio))
         if n_steps < 1 or abs(n_steps * dt - t_end) > 1e-9 * t_end:
             raise ValueError(f"t_end must be a whole number >= 1 of steps dt = {dt:g} s (got t_end = {t_end:g} s)")
+        save_every = int(save_every)
+        n_kept = kept_frames(n_steps, save_every)
+        nt, nph = self.grid.n_theta, self.grid.n_phi
+        check_memory(n_kept * (nt * nph * 4 + 8), f"run() keeping {n_kept:,} frames of {nt} x {nph} (float32; "
+                                                  f"a larger save_every keeps fewer)")
         if state is None:
             state = self.initial_state(seed)
         else:
             _check_seed(seed)
             self._check_state(state)
         t0 = state.time
-        frames, times = [state.h * 1e9], [t0]
+        h_nm = np.empty((n_kept, nt, nph), dtype=np.float32)  # filled in place: no list, no copy
+        times = np.empty(n_kept)
+        np.multiply(state.h, 1e9, out=h_nm[0], casting="same_kind")
+        times[0] = t0
+        kept = 1
         tick = max(1, n_steps // 10)
         for i in range(1, n_steps + 1):
             state = self.step(state, dt)
             if i % save_every == 0 or i == n_steps:
-                frames.append(state.h * 1e9)
-                times.append(t0 + i * dt)
+                np.multiply(state.h, 1e9, out=h_nm[kept], casting="same_kind")
+                times[kept] = t0 + i * dt
+                kept += 1
                 if callable(progress):
                     progress(i, n_steps, state)
             if progress is True and (i % tick == 0 or i == n_steps):
                 print(f"{self.name}: step {i}/{n_steps}, t = {t0 + i * dt:.4g} s, "
                       f"min h = {state.h.min() * 1e9:.1f} nm", file=sys.stderr)
         self.last_state = state
-        parameters = dict(self.params.to_dict(), dt=dt, seed=int(seed), n_steps=n_steps, save_every=int(save_every),
+        parameters = dict(self.params.to_dict(), dt=dt, seed=int(seed), n_steps=n_steps, save_every=save_every,
                           grid=self.grid.to_dict())
-        return ThicknessSeries(np.stack(frames), times, self.grid, parameters, self.name)
+        return ThicknessSeries(h_nm, times, self.grid, parameters, self.name)
 
 
 class RigidDrainage(_FilmModel):
@@ -234,8 +264,8 @@ class RigidDrainage(_FilmModel):
         if substeps.min() < 0:
             raise ValueError(f"dt = {dt:g} s is too long for this state: it needs more than {MAX_SUBSTEPS} explicit "
                              f"substeps; use a shorter dt")
-        return FilmState(time=state.time + dt, h=h, evaporated=state.evaporated + math.fsum(evaporated),
-                         substeps=int(substeps.max()))
+        return self._checked_result(FilmState(time=state.time + dt, h=h, evaporated=state.evaporated
+                                              + math.fsum(evaporated), substeps=int(substeps.max())), dt)
 
 
 class PlugFlow(_FilmModel):
@@ -283,6 +313,9 @@ class PlugFlow(_FilmModel):
     """
 
     name = "plug_flow"
+    #: its θ-sweep geometry (4) and scratch (N_SCRATCH) per face, the φ-sweep geometry (4), and
+    #: two states of four fields
+    BYTES_PER_CELL = 8 * (4 + K.N_SCRATCH + 4 + 8)
 
     def __init__(self, params=None, grid=None):
         super().__init__(params, grid)
@@ -344,5 +377,5 @@ class PlugFlow(_FilmModel):
         K.plug_rows_sweep_nb(h, gam, w, dt, self._phi_geometry, p.density, p.drag, self._two_rt, self._scratch_phi,
                              self._buffers_phi, ROW_BLOCK)
         evaporated = K.evaporate_nb(h, p.evaporation * dt, self._area)
-        return FilmState(time=state.time + dt, h=h, gamma=gam, v_theta=v, v_phi=w,
-                         evaporated=state.evaporated + evaporated, substeps=1)
+        return self._checked_result(FilmState(time=state.time + dt, h=h, gamma=gam, v_theta=v, v_phi=w,
+                                              evaporated=state.evaporated + evaporated, substeps=1), dt)

@@ -24,6 +24,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from .limits import PARAMETER_LIMITS, check_number
+
 __all__ = ["FilmParameters", "GAS_CONSTANT"]
 
 #: molar gas constant R_g in J mol⁻¹ K⁻¹ [CODATA2014], the value [Huang2020] use
@@ -69,7 +71,9 @@ class FilmParameters:
     perturbation : relative amplitude ε of the seeded smooth initial perturbation of h (and,
         for plug flow, of Γ/h), in [0, 0.5).  Default 0.05: a choice, not from a source.
 
-    Raises ``ValueError`` naming the field and its allowed range.
+    Every field is limited to a physical range (:data:`bubbleoptics.filmflow.limits.PARAMETER_LIMITS`,
+    the reasons in :mod:`bubbleoptics.filmflow.limits`); a value outside it raises ``ValueError``
+    naming the field, its unit and the range.
 
     >>> p = FilmParameters()
     >>> round(p.drag, 4), round(p.gibbs_elasticity * 1e3, 2)  # kg m^-2 s^-1, mN/m
@@ -77,7 +81,7 @@ class FilmParameters:
     >>> FilmParameters(h0=-1.0)
     Traceback (most recent call last):
     ...
-    ValueError: h0 must be a finite number > 0 in m (got -1.0)
+    ValueError: h0 must be a finite number in [1e-09, 0.001] m (got -1.0)
     """
 
     radius: float = 0.04
@@ -93,23 +97,10 @@ class FilmParameters:
     perturbation: float = 0.05
 
     def __post_init__(self):
-        def number(name, unit, *, positive=True, upper=None):
-            v = getattr(self, name)
-            ok = not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v)
-            ok = ok and (v > 0 if positive else v >= 0) and (upper is None or v < upper)
-            if not ok:
-                rng = ("> 0" if positive else ">= 0") if upper is None else f"in [0, {upper})"
-                raise ValueError(f"{name} must be a finite number {rng} in {unit} (got {v!r})")
-            object.__setattr__(self, name, float(v))
-
-        for name, unit in (("radius", "m"), ("h0", "m"), ("viscosity", "Pa s"), ("density", "kg m^-3"),
-                           ("surface_tension", "N m^-1"), ("temperature", "K"), ("surfactant", "mol m^-2")):
-            number(name, unit)
-        number("gravity", "m s^-2", positive=False)
-        number("evaporation", "m s^-1", positive=False)
-        number("perturbation", "(relative)", positive=False, upper=0.5)
-        if self.air_drag is not None:
-            number("air_drag", "kg m^-2 s^-1", positive=False)
+        for name in PARAMETER_LIMITS:
+            if name == "air_drag" and self.air_drag is None:
+                continue
+            object.__setattr__(self, name, check_number(name, getattr(self, name), PARAMETER_LIMITS))
         if self.surfactant * (1 + self.perturbation) * 2 >= self.surface_tension / (GAS_CONSTANT * self.temperature):
             raise ValueError(
                 f"surfactant must be < sigma_w / (2 R_g T (1 + perturbation)) = "
