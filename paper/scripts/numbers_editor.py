@@ -3,9 +3,11 @@
 * ``editor``: ``data/derived/editor.csv`` (``benchmarks/editor_latency.py``): from a click on
   Change to the first preview and to the full image on screen in headless Chromium, medians with
   min-max, the targets and whether the medians meet them (the CSV's ``meets_target`` column), the
-  server's and the render's shares, and the round trip without a render.
+  server's and the render's shares, the round trip without a render, and two tabs editing at once
+  (each tab's first preview, and its ratio to one tab's).
 
-Flags for ``\\ifnum`` (0 when the section fails): ``EdPreviewMeets``, ``EdFullMeets``.
+Flags for ``\\ifnum`` (0 when the section fails): ``EdPreviewMeets``, ``EdFullMeets``,
+``EdTwoTabsMeets``.
 """
 
 from __future__ import annotations
@@ -42,6 +44,11 @@ def editor(dirs):
             over = float(r["ms_median"]) / float(r["target_ms"]) - 1
             out[f"Ed{key}OverPercent"] = significant(100 * abs(over), 1)
     out["EdRepeats"] = str(int(float(by["first_preview"]["repeats"])))
+    two = by["two_tabs_first_preview"]
+    out["EdTwoTabsMs"], out["EdTwoTabsMinMs"], out["EdTwoTabsMaxMs"] = (_ms(two[k]) for k in ("ms_median", "ms_min",
+                                                                                              "ms_max"))
+    out["EdTwoTabsRatio"] = significant(float(two["ratio_to_one_tab"]), 2)
+    out["EdTwoTabsMeets"] = "1" if two["meets_target"].strip().lower() == "true" else "0"
     load = re.search(r"load average ([0-9.]+) before, ([0-9.]+) after", notes[0])
     if load:
         out["EdLoadBefore"], out["EdLoadAfter"] = load.group(1), load.group(2)
@@ -51,11 +58,12 @@ def editor(dirs):
     return out
 
 
-EDITOR_MACROS = (["EdDate", "EdMachine", "EdRepeats", "EdLoadBefore", "EdLoadAfter", "EdDepth", "EdSpp", "EdBands"]
+EDITOR_MACROS = (["EdDate", "EdMachine", "EdRepeats", "EdLoadBefore", "EdLoadAfter", "EdDepth", "EdSpp", "EdBands",
+                  "EdTwoTabsMs", "EdTwoTabsMinMs", "EdTwoTabsMaxMs", "EdTwoTabsRatio", "EdTwoTabsMeets"]
                  + [f"Ed{k}{s}" for k in ("Preview", "Full", "Clear") for s in ("Ms", "MinMs", "MaxMs")]
                  + [f"Ed{k}{s}" for k in ("Preview", "Full")
                     for s in ("Width", "TargetMs", "ServerMs", "RenderMs", "Meets", "OverPercent")])
 
 SECTIONS = {"editor": (["derived/editor.csv"], editor, EDITOR_MACROS)}
 
-FLAGS = {"EdPreviewMeets": "0", "EdFullMeets": "0"}
+FLAGS = {"EdPreviewMeets": "0", "EdFullMeets": "0", "EdTwoTabsMeets": "0"}
