@@ -165,3 +165,157 @@ def test_a_bubble_pops_mid_movie(tmp_path):
     result = tracer.render_movie(scene, tl, Path(tmp_path) / "m", **{k: v for k, v in SMALL.items()
                                                                         if k != "progress"}, progress=False)
     assert result.frames == 4
+
+
+# ------------------------------------------------------------------ damaged or hostile series files
+def _member_data_offset(path, member):
+    """Where the (compressed) data of *member* starts in the zip file *path*."""
+    import struct
+    import zipfile
+
+    with zipfile.ZipFile(path) as z:
+        info = z.getinfo(member)
+    raw = Path(path).read_bytes()
+    name_len, extra_len = struct.unpack("<HH", raw[info.header_offset + 26:info.header_offset + 30])
+    return info.header_offset + 30 + name_len + extra_len, info.compress_size
+
+
+def _rewrite(path, **members):
+    """The series file *path* with some members replaced (plain np.savez of the rest)."""
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files}
+    arrays.update(members)
+    np.savez(path, **arrays)
+
+
+def _declared_only(path, member, header, data=b""):
+    """Replace *member* of the zip *path* by a .npy header (a dict for numpy's writer) and *data*."""
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    np.lib.format.write_array_header_1_0(buf, header)
+    with zipfile.ZipFile(path) as z:
+        others = {i.filename: z.read(i) for i in z.infolist() if i.filename != f"{member}.npy"}
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        for name, content in others.items():
+            z.writestr(name, content)
+        z.writestr(f"{member}.npy", buf.getvalue() + data)
+
+
+def _break(kind, path):
+    if kind == "truncated":
+        path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+    elif kind == "corrupted":  # bytes in the middle of the thickness's deflate stream
+        start, size = _member_data_offset(path, "h_nm.npy")
+        raw = bytearray(path.read_bytes())
+        raw[start + size // 3:start + size // 3 + 40] = bytes(range(40))
+        path.write_bytes(bytes(raw))
+    elif kind == "corrupted deep":  # valid numbers over a larger series' stored (np.savez) data: the CRC-32 tells
+        series([500.0, 400.0], shape=(64, 128)).save(path)
+        _rewrite(path)
+        start, size = _member_data_offset(path, "h_nm.npy")
+        raw = bytearray(path.read_bytes())
+        raw[start + size - 80:start + size - 40] = b"A" * 40  # 12.07 nm as float32
+        path.write_bytes(bytes(raw))
+    elif kind == "random bytes":
+        path.write_bytes(np.random.default_rng(5).bytes(500))
+    elif kind == "2-D h_nm":
+        _rewrite(path, h_nm=np.ones((6, 12), np.float32))
+    elif kind == "array radius":
+        _rewrite(path, radius=np.ones(3))
+    elif kind == "pickled h_nm":
+        _rewrite(path, h_nm=np.array([{"a": 1}], dtype=object))
+    elif kind == "integer h_nm":
+        _rewrite(path, h_nm=np.ones((2, 6, 12), np.int64))
+    elif kind == "beyond float32":
+        _rewrite(path, h_nm=np.full((2, 6, 12), 1e300))
+    elif kind == "negative":
+        _rewrite(path, h_nm=-np.ones((2, 6, 12), np.float32))
+    elif kind == "nan":
+        _rewrite(path, h_nm=np.full((2, 6, 12), np.nan, np.float32))
+    elif kind == "times not increasing":
+        _rewrite(path, times=np.array([1.0, 1.0]))
+    elif kind == "parameters not json":
+        _rewrite(path, parameters=np.array("{" * 100_000))
+    elif kind == "huge shape":  # the header of a (64, 4096, 8192) array, the data never read
+        _declared_only(path, "h_nm", {"descr": "<f4", "fortran_order": False, "shape": (64, 4096, 8192)})
+    elif kind == "size mismatch":  # a header that promises more data than the member holds
+        _declared_only(path, "h_nm", {"descr": "<f4", "fortran_order": False, "shape": (2, 6, 12)}, b"\0" * 100)
+    else:
+        raise AssertionError(kind)
+
+
+DAMAGED = {
+    "truncated": "not a readable .npz archive",
+    "corrupted": "film.npz:h_nm: cannot read its array header (BadZipFile: Bad CRC-32",
+    "corrupted deep": "film.npz:h_nm: cannot read it (BadZipFile: Bad CRC-32",
+    "random bytes": "not a readable .npz archive",
+    "2-D h_nm": "film.npz:h_nm: must be a 3-D array",
+    "array radius": "film.npz:radius: must have shape ()",
+    "pickled h_nm": "film.npz:h_nm: must be float32 or float64",
+    "integer h_nm": "film.npz:h_nm: must be float32 or float64",
+    "beyond float32": "film.npz:h_nm: must be finite and >= 0 nanometres (frame 0",
+    "negative": "film.npz:h_nm: must be finite and >= 0",
+    "nan": "film.npz:h_nm: must be finite and >= 0",
+    "times not increasing": "film.npz:times: must be finite and strictly increasing",
+    "parameters not json": "film.npz:parameters: must be a JSON object",
+    "huge shape": "film.npz:h_nm: 64 x 4096 x 8192 values are 8 GiB as float32, more than the 2 GiB",
+    "size mismatch": "film.npz:h_nm: the archive says",
+}
+
+
+@pytest.mark.api
+@pytest.mark.parametrize("kind", DAMAGED)
+def test_a_damaged_series_file_is_one_line_naming_the_file_and_key(tmp_path, capsys, kind):
+    """Each damage, through ``tracer image``: exit 2, one line ``SCENE:LINE: key: FILE:KEY: what``
+    (no traceback, no advice to unpickle), nothing written; and the same from Python."""
+    from bubbleoptics.filmflow.series import SeriesFileError
+
+    film = tmp_path / "film.npz"
+    series([500.0, 400.0]).save(film)
+    _break(kind, film)
+    path = write_scene(tmp_path, 'kind = "simulated"\npath = "film.npz"\n')
+    status, out, err = run(["image", path, tmp_path / "out.png", "--width", "8", "--height", "8"], capsys)
+    assert status == 2 and out == ""
+    assert_one_line(err)
+    assert err.startswith(f"{path}:") and "bubbles[0].film.path" in err and DAMAGED[kind] in err, err
+    assert "allow_pickle" not in err and len(err) < 400
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["film.npz", "scene.toml"]
+    with pytest.raises(SeriesFileError) as info:
+        ThicknessSeries.load(film)
+    assert "\n" not in str(info.value) and str(info.value).startswith(str(film))
+
+
+@pytest.mark.api
+def test_a_series_larger_than_the_memory_available_is_refused_before_reading(tmp_path, monkeypatch):
+    from bubbleoptics.filmflow import series as series_module
+
+    film = tmp_path / "film.npz"
+    series([500.0] * 8, shape=(64, 128)).save(film)
+    monkeypatch.setattr(series_module, "available_memory_bytes", lambda: 100_000)
+    with pytest.raises(ValueError, match=r"film.npz:h_nm: 8 x 64 x 128 values need 0.00024\d* GiB as float32, more "
+                                         r"than the 9.31e-05 GiB of memory available"):
+        ThicknessSeries.load(film)
+
+
+@pytest.mark.api
+def test_a_series_is_read_a_frame_at_a_time(tmp_path):
+    """Loading 16 float64 frames keeps the float32 result and about one frame more, not the
+    float64 array, its float32 copy and whole-array temporaries of the checks."""
+    import tracemalloc
+
+    shape = (256, 512)
+    frames = np.random.default_rng(1).random((16, *shape)) * 900.0
+    film = tmp_path / "film.npz"
+    ThicknessSeries(frames, np.arange(16.0), FilmGrid(*shape, 0.04), {}, "test").save(film)
+    _rewrite(film, h_nm=frames)  # float64 on disk, as another writer might leave it
+    tracemalloc.start()
+    try:
+        back = ThicknessSeries.load(film)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    result = back.h_nm.nbytes
+    assert back.h_nm.dtype == np.float32 and np.array_equal(back.h_nm, frames.astype(np.float32))
+    assert peak < result + 4 * frames[0].nbytes, (peak, result)  # the result, and a few float64 frames

@@ -63,17 +63,20 @@ def load_film_map(full: Path) -> np.ndarray:
 
 def load_film_series(full: Path):
     """A simulated film's thickness series: a ``.npz`` written by
-    :meth:`bubbleoptics.filmflow.ThicknessSeries.save` (``bubbleoptics.filmflow``)."""
+    :meth:`bubbleoptics.filmflow.ThicknessSeries.save` (``bubbleoptics.filmflow``), read by
+    :meth:`~bubbleoptics.filmflow.ThicknessSeries.load`, which checks the archive, every array's
+    header and the decompressed size before it reads the thickness (one frame at a time); its
+    one-line ``FILE:KEY: what is wrong`` names the file as the scene does."""
     from bubbleoptics.filmflow import ThicknessSeries
 
     if full.suffix.lower() != ".npz":
         raise AssetError(f"a film's thickness series is a .npz file (ThicknessSeries.save), got '{full.name}'")
     try:
         return ThicknessSeries.load(full)
-    except ValueError as exc:
+    except ValueError as exc:  # SeriesFileError: the file, damaged or not a series
         raise AssetError(str(exc).replace(str(full), full.name)) from None
-    except (OSError, EOFError, KeyError) as exc:  # not a zip, truncated, ...
-        raise AssetError(f"cannot read '{full.name}' as a thickness series ({type(exc).__name__}: {exc})") from None
+    except OSError as exc:  # cannot be opened (permissions, a folder, ...)
+        raise AssetError(f"cannot read '{full.name}' as a thickness series ({exc.strerror or exc})") from None
 
 
 def load_mesh_file(full: Path, access: FileAccess = ANYWHERE) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
