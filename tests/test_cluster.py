@@ -3,6 +3,13 @@ render, bit for bit, from Python and from ``tracer image --workers N``."""
 
 from __future__ import annotations
 
+import contextlib
+import inspect
+import os
+import socket
+import struct
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -11,7 +18,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import tracer
-from tracer.cluster import check_cluster_options, connect, tile_bounds
+from tracer.cluster import (CONNECT_DEADLINE, check_cluster_options, check_scheduler_address, connect, max_workers,
+                            tile_bounds)
 from tracer.pack import pack_scene
 from tracer.render import render_tile, render_with_stats, resolve_settings
 from cli_helpers import assert_one_line, run  # tests/cli_helpers.py
@@ -86,17 +94,150 @@ def test_workers_and_scheduler_are_exclusive_and_checked(tmp_path, capsys):
     assert status == 2 and "not allowed with argument" in err
     assert_one_line(err)
     status, _, err = run(["image", out, "--workers", "0"], capsys)
-    assert status == 2 and "--workers: must be an integer from 1 to 1024, got '0'" in err
+    assert status == 2 and "--workers: must be an integer >= 1 (at most one per core), got '0'" in err
     assert not out.exists()
     with pytest.raises(ValueError, match="at most one of client, workers and scheduler"):
         check_cluster_options(workers=2, scheduler="tcp://x:1")
-    with pytest.raises(ValueError, match="workers must be an integer >= 1, got 1.5"):
+    with pytest.raises(ValueError, match=f"workers must be an integer from 1 to {max_workers()} .*, got 1.5"):
         check_cluster_options(workers=1.5)
+
+
+@pytest.mark.api
+def test_workers_are_capped_at_the_cores_with_the_reason(tmp_path, capsys):
+    cores = max_workers()
+    assert cores == len(os.sched_getaffinity(0))
+    out = tmp_path / "x.png"
+    status, _, err = run(["image", out, "--quiet", "--workers", str(cores + 1)], capsys)
+    assert status == 2 and f"--workers must be an integer from 1 to {cores} (one single-threaded worker process " \
+                           f"per core; this machine gives this process {cores}), got {cores + 1}" in err
+    assert_one_line(err)
+    status, _, err = run(["image", out, "--quiet", "--workers", "1" * 400], capsys)  # no int() of 400 digits
+    assert status == 2 and "--workers: must be an integer >= 1" in err and len(err) < 200
+    assert list(tmp_path.iterdir()) == []
+    check_cluster_options(workers=cores)  # the cap itself is allowed
 
 
 @pytest.mark.api
 def test_an_unreachable_scheduler_is_one_line():
     pytest.importorskip("distributed")
-    with pytest.raises(ValueError, match=r"^cannot reach the Dask scheduler at tcp://127.0.0.1:1: ") as info:
-        connect("tcp://127.0.0.1:1", timeout="0.5s")
-    assert "\n" not in str(info.value)
+    with pytest.raises(ValueError, match=r"^cannot reach the Dask scheduler at tcp://127.0.0.1:1: connection refused"
+                                         r" \(nothing listens on that port\)$"):
+        connect("tcp://127.0.0.1:1", timeout=0.5)
+
+
+# ------------------------------------------------------------------ Dask addresses
+@pytest.mark.api
+@pytest.mark.parametrize("address, words", [
+    ("tls://127.0.0.1:8786", ["--scheduler: the scheme tls:// needs TLS certificates", "security="]),
+    ("inproc://x", ["--scheduler: the scheme inproc:// names a place inside one Python process"]),
+    ("ucx://127.0.0.1:8786", ["--scheduler: the scheme ucx:// needs UCX"]),
+    ("ws://127.0.0.1:8786", ["--scheduler: the scheme ws://", "tcp://"]),
+    ("wss://127.0.0.1:8786", ["--scheduler: the scheme wss://", "tcp://"]),
+    ("http://127.0.0.1:8786", ["--scheduler: unknown scheme 'http://'", "tcp://HOST:PORT"]),
+    ("tcp://:8786", ["--scheduler:", "(no host)"]),
+    ("tcp://127.0.0.1:99999", ["--scheduler: the port must be an integer from 1 to 65535"]),
+    ("tcp://127.0.0.1:x", ["--scheduler: the port must be"]),
+    ("tcp://a:b:c", ["--scheduler:", "[IPv6]:PORT"]),
+    ("tcp://é:1", ["--scheduler:", "tcp://HOST:PORT"]),
+])
+@pytest.mark.parametrize("command", ["image", "movie"])
+def test_every_scheme_is_supported_or_refused_by_name_before_any_work(tmp_path, capsys, address, words, command):
+    commands = tmp_path / "c.txt"
+    commands.write_text("render 2\n")
+    out = tmp_path / ("x.png" if command == "image" else "m")
+    args = [command, out] + ([commands] if command == "movie" else []) + ["--quiet", "--scheduler", address]
+    status, stdout, err = run(args, capsys)
+    assert status == 2 and stdout == "" and all(w in err for w in words), err
+    assert_one_line(err)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.txt"]  # no image, no movie, no cache
+
+
+@pytest.mark.api
+@pytest.mark.parametrize("address, normal", [
+    ("127.0.0.1", "tcp://127.0.0.1:8786"),
+    ("tcp://host.example:8786", "tcp://host.example:8786"),
+    ("TCP://10.0.0.2:9000", "tcp://10.0.0.2:9000"),
+    ("tcp://[::1]:8786", "tcp://[::1]:8786"),
+    ("[::1]", "tcp://[::1]:8786"),
+])
+def test_a_tcp_address_is_normalised_as_dask_reads_it(address, normal):
+    assert check_scheduler_address(address) == normal
+
+
+@contextlib.contextmanager
+def _server(answer):
+    """A TCP server on a free port of 127.0.0.1 that accepts every connection and sends
+    *answer* (bytes; None: nothing, ever); yields its tcp:// address."""
+    sock = socket.create_server(("127.0.0.1", 0))
+    held = []
+
+    def serve():
+        while True:
+            try:
+                conn, _ = sock.accept()
+            except OSError:
+                return
+            held.append(conn)
+            if answer is not None:
+                with contextlib.suppress(OSError):
+                    conn.sendall(answer)
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    try:
+        yield f"tcp://127.0.0.1:{sock.getsockname()[1]}"
+    finally:
+        sock.close()
+        for conn in held:
+            conn.close()
+
+
+@pytest.mark.api
+@pytest.mark.parametrize("answer, reason", [
+    (None, f"it accepted the connection but did not answer Dask's handshake within {CONNECT_DEADLINE:g} s"),
+    (struct.pack("<Q", int(3.07 * 2**60)) + b"junk", "it answered, but not in Dask's protocol (a message header "
+                                                      "claiming more bytes than memory)"),
+    (struct.pack("<Q", 2**20), f"it accepted the connection but did not answer Dask's handshake within "
+                               f"{CONNECT_DEADLINE:g} s"),  # 1 MiB promised, never sent
+    (b"HTTP/1.1 400 Bad Request\r\n\r\n", "it answered, but not in Dask's protocol"),
+], ids=["silent", "3 EiB length", "1 MiB promised", "http"])
+def test_a_silent_or_wrong_server_fails_within_the_deadline_with_the_reason(tmp_path, capsys, answer, reason):
+    """Connection and handshake share one deadline (CONNECT_DEADLINE); ``tracer movie`` then
+    exits 2 with the address and the reason in one line, and writes nothing (no OUT.cache).
+    The generous wall-clock bound only catches a hang."""
+    pytest.importorskip("distributed")
+    commands = tmp_path / "c.txt"
+    commands.write_text("render 2\n")
+    with _server(answer) as address:
+        start = time.monotonic()
+        status, _, err = run(["movie", tmp_path / "m", commands, "--width", "4", "--height", "4", "--quiet",
+                              "--scheduler", address], capsys)
+        seconds = time.monotonic() - start
+    assert status == 2 and err.startswith(f"tracer: error: cannot reach the Dask scheduler at {address}: {reason}"), err
+    assert_one_line(err)
+    assert seconds < CONNECT_DEADLINE + 10, seconds
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.txt"]
+
+
+@pytest.mark.api
+def test_the_deadline_is_the_configured_one():
+    pytest.importorskip("distributed")
+    with _server(None) as address:
+        start = time.monotonic()
+        with pytest.raises(ValueError, match="within 0.5 s"):
+            connect(address, timeout=0.5)
+        assert time.monotonic() - start < 5
+    assert CONNECT_DEADLINE == 3.0 and inspect.signature(connect).parameters["timeout"].default == CONNECT_DEADLINE
+
+
+@pytest.mark.api
+def test_a_scheduler_connects_and_a_worker_is_named_as_one(client):
+    there = connect(client.scheduler.address)
+    try:
+        assert there.scheduler_info()["id"] == client.scheduler_info()["id"]
+    finally:
+        there.close()
+    worker = next(iter(client.scheduler_info()["workers"]))
+    with pytest.raises(ValueError, match=f"^cannot reach the Dask scheduler at {worker}: it is a Dask Worker, "
+                                         "not a scheduler$"):
+        connect(worker)

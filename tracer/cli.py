@@ -348,10 +348,10 @@ def _main(argv=None):
         spectral_out = _check_output(args.spectral_out, suffixes=(".npz",)) if args.spectral_out else None
         spectral_image = spectral_out is not None or out.suffix.lower() == ".npz"
         workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
-        check_cluster_options(workers=workers, scheduler=scheduler)
+        check_cluster_options(workers=workers, scheduler=scheduler, names=_CLUSTER_NAMES)
         scene = _scene_from_args(args, scene_path)
         s = _resolve_settings(args, scene, spectral_image)  # every limit and the memory estimate, first
-        with cluster_client(workers=workers, scheduler=scheduler) as client:
+        with cluster_client(workers=workers, scheduler=scheduler, names=_CLUSTER_NAMES) as client:
             image, stats = render_with_stats(scene, **s, progress=False if args.quiet else None,
                                              spectral_image=spectral_image, client=client)
         if out.suffix.lower() == ".npz":
@@ -418,14 +418,21 @@ def _fps(text):
 
 
 def _workers(text):
-    if not (text.isascii() and text.isdigit()) or not 1 <= int(text) <= 1024:
-        raise argparse.ArgumentTypeError(f"must be an integer from 1 to 1024, got {text[:40]!r}")
+    """An argparse type: an integer >= 1 (its upper limit, the cores, is checked with the other
+    cluster options by tracer.cluster.check_cluster_options, which names the count)."""
+    if not (text.isascii() and text.isdigit()) or len(text) > 100 or not int(text) >= 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1 (at most one per core), got {text[:40]!r}")
     return int(text)
+
+
+#: What the command line calls the cluster options, in errors.
+_CLUSTER_NAMES = {"workers": "--workers", "scheduler": "--scheduler"}
 
 
 def _movie(args):
     """``tracer movie|film [SCENE] OUT COMMANDS``: everything checked before any work; exit 2
     with one line on a bad input, nothing written."""
+    from .cluster import check_cluster_options
     from .errors import SceneError
     from .movie import DEFAULT_FPS, check_movie_output, check_spectral_output, render_movie
     from .movie_commands import Timeline
@@ -435,6 +442,7 @@ def _movie(args):
             return _fail(f"tracer {args.command}: error: expected [SCENE] OUT COMMANDS")
         scene_path, out, commands = (None, *args.paths) if len(args.paths) == 2 else args.paths
         check_movie_output(out)
+        check_cluster_options(workers=args.workers, scheduler=args.scheduler, names=_CLUSTER_NAMES)
         if args.spectral_out is not None:
             check_spectral_output(args.spectral_out, out)
         scene = _scene_from_args(args, scene_path)
@@ -444,7 +452,7 @@ def _movie(args):
                      progress=False if args.quiet else None, workers=args.workers, scheduler=args.scheduler,
                      exposure=args.exposure, view=args.view, spectral_out=args.spectral_out,
                      names={**_OPTION_NAMES, "fps": "--fps", "exposure": "--exposure", "view": "--view",
-                            "workers": "--workers"}, **s)
+                            **_CLUSTER_NAMES}, **s)
     except SceneError as err:
         return _fail(str(err))
     except (ValueError, OSError) as err:

@@ -25,10 +25,30 @@ import sys
 
 import numpy as np
 
+from bubbleoptics.resources import usable_cores
+
 from .integrator import N_COUNTS
 
 __all__ = ["local_cluster", "connect", "cluster_client", "render_tiles", "tile_bounds", "worker_numba_cache_stats",
-           "TILES_PER_WORKER", "MODEL_MOVIE", "model_movie_seconds"]
+           "check_cluster_options", "check_scheduler_address", "max_workers", "SCHEMES", "CONNECT_DEADLINE",
+           "DEFAULT_PORT", "TILES_PER_WORKER", "MODEL_MOVIE", "model_movie_seconds"]
+
+#: Seconds a scheduler has to accept the connection *and* answer Dask's handshake (one deadline
+#: for both): a closed port, a silent one and one that answers something else all fail within it.
+CONNECT_DEADLINE = 3.0
+#: The port of an address given without one (``dask scheduler``'s default).
+DEFAULT_PORT = 8786
+#: The schemes of a Dask address: ``tcp`` is used (also for an address without a scheme, as Dask
+#: does); every other is refused by name, with the reason.
+SCHEMES = {
+    "tcp": None,
+    "tls": "needs TLS certificates, which the command line does not take: from Python, pass "
+           "client=distributed.Client(ADDRESS, security=...)",
+    "inproc": "names a place inside one Python process, not a cluster to connect to",
+    "ucx": "needs UCX (ucx-py), which the dask extra does not install",
+    "ws": "needs the websocket comm (tornado websockets), which the command line does not use: give its tcp:// address",
+    "wss": "needs the websocket comm and TLS certificates: give the scheduler's tcp:// address",
+}
 
 #: Tiles of rows per worker in :func:`render_tiles`: enough that a worker that finishes early
 #: (its rows miss the bubbles) takes another tile, few enough that a tile's fixed cost (a task,
@@ -73,26 +93,139 @@ def local_cluster(workers: int):
                         env=env, silence_logs=50)  # CRITICAL: no shutdown chatter on stderr
 
 
-def connect(scheduler: str, timeout: str = "10s"):
-    """A :class:`distributed.Client` of the running scheduler at *scheduler* (``tcp://HOST:PORT``);
-    ValueError (one line) when it cannot be reached within *timeout*."""
+def check_scheduler_address(address, name="scheduler") -> str:
+    """The Dask address *address* as ``tcp://HOST:PORT`` (the scheme ``tcp`` and the port
+    :data:`DEFAULT_PORT` when left out), else ValueError naming it as *name*: a scheme other
+    than tcp is refused by name with the reason (:data:`SCHEMES`), and so is a malformed host or
+    port."""
+    shown = repr(address) if not isinstance(address, str) or len(address) <= 60 else repr(address[:57] + "...")
+    usage = "a Dask scheduler's address is tcp://HOST:PORT"
+    if not isinstance(address, str) or not address or not address.isascii() or not address.isprintable():
+        raise ValueError(f"{name}: {usage}, got {shown}")
+    scheme, sep, location = address.partition("://")
+    if not sep:
+        scheme, location = "tcp", address
+    scheme = scheme.lower()
+    if scheme not in SCHEMES:
+        raise ValueError(f"{name}: unknown scheme '{scheme}://' in {shown} ({usage})")
+    if SCHEMES[scheme] is not None:
+        raise ValueError(f"{name}: the scheme {scheme}:// {SCHEMES[scheme]}; got {shown}")
+    if location.startswith("["):  # [IPv6]:PORT
+        host, bracket, rest = location[1:].partition("]")
+        if not bracket or (rest and not rest.startswith(":")):
+            raise ValueError(f"{name}: {usage} ([IPv6]:PORT for IPv6), got {shown}")
+        port = rest[1:] if rest else ""
+        host_text = f"[{host}]"
+    else:
+        host, _, port = location.partition(":") if location.count(":") == 1 else (location, "", "")
+        host_text = host
+        if location.count(":") > 1:
+            raise ValueError(f"{name}: {usage} ([IPv6]:PORT for IPv6), got {shown}")
+    if not host or any(c in host for c in "/?#@ "):
+        raise ValueError(f"{name}: {usage}, got {shown} (no host)" if not host else f"{name}: {usage}, got {shown}")
+    if port == "" and ":" not in location.rpartition("]")[2]:
+        port = str(DEFAULT_PORT)
+    if not (port.isdigit() and 1 <= int(port) <= 65535):
+        raise ValueError(f"{name}: the port must be an integer from 1 to 65535, got {shown}")
+    return f"tcp://{host_text}:{int(port)}"
+
+
+def _handshake(address, deadline):
+    """Connect to *address* (``tcp://HOST:PORT``), do Dask's handshake and ask for its identity,
+    all within *deadline* seconds (one ``asyncio.wait_for`` over a plain TCP connection, which
+    tells a refused or unreachable port from a silent one, then ``distributed.comm.connect``
+    with its own timeout, the handshake and the reply); None if a scheduler answered, else why
+    not (one phrase)."""
+    import asyncio
+    import concurrent.futures
+
+    from distributed.comm import connect as comm_connect
+
+    host, _, port = address[len("tcp://"):].rpartition(":")
+    host = host[1:-1] if host.startswith("[") else host
+    phase = ["connect"]
+
+    async def talk():
+        _, writer = await asyncio.open_connection(host, int(port))
+        writer.close()
+        phase[0] = "handshake"
+        comm = await comm_connect(address, timeout=deadline)
+        try:
+            phase[0] = "identity"
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    def run():
+        return asyncio.run(asyncio.wait_for(talk(), deadline))
+
+    seconds = f"{deadline:g} s"
+    with concurrent.futures.ThreadPoolExecutor(1) as pool:  # its own event loop, whatever the caller runs
+        try:
+            reply = pool.submit(run).result()
+        except (asyncio.TimeoutError, TimeoutError):
+            if phase[0] == "connect":
+                return f"no connection within {seconds} (the host does not answer)"
+            return (f"it accepted the connection but did not answer Dask's handshake within {seconds} "
+                    "(not a Dask scheduler?)")
+        except ConnectionRefusedError:
+            return "connection refused (nothing listens on that port)"
+        except OSError as err:
+            if phase[0] == "connect":
+                return f"cannot connect ({type(err).__name__}: {' '.join(str(err).split())[:100]})"
+            return "it closed the connection during Dask's handshake (not a Dask scheduler?)"
+        except MemoryError:  # a length prefix of junk bytes: distributed allocates what it says
+            return "it answered, but not in Dask's protocol (a message header claiming more bytes than memory)"
+        except Exception as err:  # noqa: BLE001 - junk on the wire: ValueError, msgpack's errors...
+            return f"it answered, but not in Dask's protocol ({type(err).__name__}: {' '.join(str(err).split())[:80]})"
+    kind = reply.get("type") if isinstance(reply, dict) else None
+    if kind != "Scheduler":
+        return f"it is a Dask {kind}, not a scheduler" if isinstance(kind, str) else "its answer is not a Dask scheduler's"
+    return None
+
+
+def connect(scheduler: str, timeout: float = CONNECT_DEADLINE, name="scheduler"):
+    """A :class:`distributed.Client` of the running scheduler at *scheduler*
+    (:func:`check_scheduler_address`); ValueError (one line, with the address and the reason)
+    when no Dask scheduler answers the connection and the handshake within *timeout* seconds
+    (:data:`CONNECT_DEADLINE`): a closed port, a silent one, one that answers something else."""
     from distributed import Client
 
+    address = check_scheduler_address(scheduler, name)
+    timeout = float(timeout.rstrip("s")) if isinstance(timeout, str) else float(timeout)
+    why = _handshake(address, timeout)
+    if why is not None:
+        raise ValueError(f"cannot reach the Dask scheduler at {address}: {why}")
     try:
-        return Client(scheduler, timeout=timeout)
-    except (OSError, TimeoutError) as err:
-        raise ValueError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from None
+        return Client(address, timeout=f"{timeout}s")
+    except Exception as err:  # noqa: BLE001 - it went away between the check and the client
+        raise ValueError(f"cannot reach the Dask scheduler at {address}: {type(err).__name__}: "
+                         f"{' '.join(str(err).split())[:120]}") from None
+
+
+def max_workers() -> int:
+    """The most local workers ``workers=N`` starts: one single-threaded process per core this
+    process may use (:func:`bubbleoptics.resources.usable_cores`); more would only share them."""
+    return usable_cores()
 
 
 def check_cluster_options(client=None, workers=None, scheduler=None, names=None):
     """Check, before any work, that at most one of *client*, *workers* and *scheduler* is given,
-    that *workers* is an integer >= 1 and that ``distributed`` is installed when needed
-    (ValueError naming the option as *names* calls it, e.g. ``--workers``)."""
+    that *workers* is an integer from 1 to :func:`max_workers`, that *scheduler* is an address
+    the tracer connects to (:func:`check_scheduler_address`) and that ``distributed`` is
+    installed when needed (ValueError naming the option as *names* calls it, e.g. ``--workers``)."""
     names = names or {}
     if sum(x is not None for x in (client, workers, scheduler)) > 1:
         raise ValueError("give at most one of client, workers and scheduler")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"{names.get('workers', 'workers')} must be an integer >= 1, got {workers!r}")
+    if workers is not None:
+        cores = max_workers()
+        if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= cores:
+            raise ValueError(f"{names.get('workers', 'workers')} must be an integer from 1 to {cores} (one "
+                             f"single-threaded worker process per core; this machine gives this process {cores}), "
+                             f"got {workers!r}")
+    if scheduler is not None:
+        check_scheduler_address(scheduler, names.get("scheduler", "scheduler"))
     if workers is not None or scheduler is not None:
         try:
             import distributed  # noqa: F401
@@ -102,12 +235,12 @@ def check_cluster_options(client=None, workers=None, scheduler=None, names=None)
 
 
 @contextlib.contextmanager
-def cluster_client(client=None, workers=None, scheduler=None):
+def cluster_client(client=None, workers=None, scheduler=None, names=None):
     """A context giving the :class:`distributed.Client` to render on: *client* itself (left
     open), a :func:`local_cluster` of *workers* processes (started and stopped here), the
     scheduler at *scheduler* (:func:`connect`; closed here), or None (render here) when none is
     given."""
-    check_cluster_options(client, workers, scheduler)
+    check_cluster_options(client, workers, scheduler, names)
     if client is not None or (workers is None and scheduler is None):
         yield client
         return
@@ -117,7 +250,7 @@ def cluster_client(client=None, workers=None, scheduler=None):
         with local_cluster(workers) as cluster, Client(cluster) as c:
             yield c
     else:
-        with connect(scheduler) as c:
+        with connect(scheduler, name=(names or {}).get("scheduler", "scheduler")) as c:
             yield c
 
 
