@@ -621,3 +621,103 @@ def test_python_m_tracer_movie_on_workers_is_silent(tmp_path, drift):
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout == "" and proc.stderr == ""
     assert out.is_file() and len(list(movie_cache_folder(out).glob("*.png"))) == 4
+
+
+# ------------------------------------------------------------------------------------------
+# long movies: frames planned, keyed and rendered one at a time
+# ------------------------------------------------------------------------------------------
+class _StopAfter(Exception):
+    pass
+
+
+@pytest.mark.api
+def test_a_million_frames_start_rendering_at_once_with_flat_memory(tmp_path, monkeypatch):
+    """``render 1000000`` with the camera moving: the commands are checked (every frame's
+    camera, as arrays), then the first frame is rendered when its key is the only one computed;
+    over the first 300 frames the traced memory stays at the frame keys' array (32 bytes a
+    frame) and one frame, not a million frames' scenes."""
+    import tracemalloc
+
+    from tracer import movie_commands
+
+    keys, rendered_after = [], []
+    real_key = movie_commands.frame_key
+
+    def counting_key(frame, bits=8):
+        keys.append(frame.index)
+        return real_key(frame, bits)
+
+    def fake_render(frame, bits=8):
+        rendered_after.append(len(keys))
+        if len(rendered_after) == 300:
+            raise _StopAfter
+        return f"png {frame.index}".encode(), None
+
+    monkeypatch.setattr(movie_commands, "frame_key", counting_key)
+    monkeypatch.setattr(movie_module, "render_frame_files", fake_render)
+    scene = three()
+    tl = Timeline.from_text(scene, "camera orbit 30\nmove пузырь1 100 0 0\nrender 1000000\n")
+    assert len(tl) == 1_000_000
+    tracemalloc.start()
+    try:
+        with pytest.raises(_StopAfter):
+            render_movie(scene, tl, tmp_path / "m", **TINY_SETTINGS, progress=False)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert rendered_after[:3] == [1, 2, 3] and len(keys) == 300  # each frame keyed as it is scheduled
+    assert peak < 32 * 1_000_000 + 16 * 2**20, peak  # the keys' array, and 16 MiB for the rest
+    assert len(list(movie_cache_folder(tmp_path / "m").glob("*.png"))) == 299
+    assert not (tmp_path / "m").exists()  # interrupted: no movie
+
+
+@pytest.mark.api
+def test_the_cameras_of_a_long_render_are_checked_like_each_frame():
+    """The cameras between a render's ends are computed as arrays: the same positions as each
+    frame's own scene, and a camera that passes through its look-at point, or looks along its
+    up vector, half way is refused naming that frame."""
+    from tracer.movie_commands import _apply, _camera_paths
+
+    text = "camera orbit 70\ncamera position 100 900 1500\ncamera look_at 400 300 20\ncamera orbit -30\n"
+    tl = Timeline(three())
+    for line in text.splitlines():
+        tl.command(line)
+    start, changes = tl._start, tuple(tl._pending)
+    k = np.arange(1, 10)
+    pos, look = _camera_paths(start.scene.camera, changes, k, 9)
+    for i, kk in enumerate(k):
+        cam = _apply(start, changes, kk / 9).scene.camera
+        assert np.allclose(pos[i], cam.position, rtol=1e-13, atol=1e-9)
+        assert np.allclose(look[i], cam.look_at, rtol=1e-13, atol=1e-9)
+    assert len(Timeline.from_text(three(), text + "render 9\n")) == 9  # and every frame of it passes
+    # the coursework camera: (480, 480, 2000) looking at (480, 480, 0), up -y
+    for text, message in [
+        ("camera position 480 480 -2000\nrender 4\n", "frame 2 of this render: camera look_at coincides"),
+        ("camera position 480 -1520 -2000\ncamera orbit 90\nrender 4\n",
+         "frame 2 of this render: camera up vector is parallel"),
+    ]:
+        with pytest.raises(CommandsError, match=message):
+            Timeline.from_text(three(), text)
+
+
+@pytest.mark.api
+def test_distributed_frames_are_submitted_a_window_at_a_time(tmp_path, drift, client, monkeypatch):
+    """A movie on a cluster keeps at most its window of frames in flight (here 8, for 2
+    workers), and its frames are the serial ones."""
+    submitted, peak = [], [0]
+    real_submit = client.submit
+
+    def watch(*args, **kwargs):
+        future = real_submit(*args, **kwargs)
+        submitted.append(future)
+        peak[0] = max(peak[0], sum(not f.done() for f in submitted))
+        return future
+
+    monkeypatch.setattr(client, "submit", watch)
+    tl = Timeline.from_text(three(), "move пузырь1 100 0 0\nrender 20\n")
+    dist = render_movie(three(), tl, tmp_path / "dist", client=client, **TINY_SETTINGS, progress=False)
+    serial = render_movie(three(), tl, tmp_path / "serial", **TINY_SETTINGS, progress=False)
+    assert dist.rendered == serial.rendered == len(submitted) == 20
+    assert 1 <= peak[0] <= movie_module.FRAMES_IN_FLIGHT_PER_WORKER * 2
+    for a, b in zip(sorted((tmp_path / "serial").iterdir()), sorted((tmp_path / "dist").iterdir())):
+        assert a.read_bytes() == b.read_bytes()

@@ -24,14 +24,18 @@ thread count, so distributed frames are bit for bit the serial ones.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from bubbleoptics.atomic import write_atomically
 
@@ -174,22 +178,78 @@ def render_frame_png(frame: Frame, bits: int = 8) -> bytes:
 
 
 # ------------------------------------------------------------------------------------------
-# Dask
+# rendering the frames as they are planned
 # ------------------------------------------------------------------------------------------
-def _render_distributed(client, todo, bits, keys, store, bar):
-    """Render the frames *todo* on *client*'s cluster, ``store(frame, files)`` each as it comes."""
-    from distributed import as_completed
+#: Frames in flight on a cluster per worker (at least 8): enough to keep every worker busy while
+#: results come back, few enough that the frames waiting hold little memory.
+FRAMES_IN_FLIGHT_PER_WORKER = 4
 
-    futures = client.map(render_frame_files, todo, bits=bits, key=[f"tracer-frame-{k}" for k in keys],
-                         retries=3, pure=False)
-    by_key = {f.key: frame for f, frame in zip(futures, todo)}
-    try:
-        for future, files in as_completed(futures, with_results=True):
-            store(by_key[future.key], files)
-            if bar is not None:
-                bar.update(1)
-    finally:
-        client.cancel([f for f in futures if not f.done()])
+
+class _FrameRenderer:
+    """Renders the frames :func:`render_movie` hands it, one at a time, into the cache: here, as
+    each arrives, or on *client*'s cluster with at most a window of frames in flight (so a
+    million-frame movie is neither planned nor submitted all at once)."""
+
+    def __init__(self, client, cache: Path, bits: int, bar):
+        self.client, self.cache, self.bits, self.bar = client, cache, bits, bar
+        self.in_flight = {}  # Dask key -> frame key
+        self.completed = None
+        if client is not None:
+            from distributed import as_completed
+
+            self.completed = as_completed(with_results=True)
+            workers = len(client.scheduler_info().get("workers", {}))
+            self.window = max(8, FRAMES_IN_FLIGHT_PER_WORKER * workers)
+
+    def pending(self, key) -> bool:
+        return f"tracer-frame-{key}" in self.in_flight
+
+    def store(self, key, files):
+        png, npz = files
+        if npz is not None:  # first: a frame counts as cached once its .png is there
+            write_atomically(self.cache / f"{key}.npz", lambda tmp: Path(tmp).write_bytes(npz))
+        write_atomically(self.cache / f"{key}.png", lambda tmp: Path(tmp).write_bytes(png))
+        if self.bar is not None:
+            self.bar.update(1)
+
+    def submit(self, frame, key):
+        if self.client is None:
+            self.store(key, render_frame_files(frame, self.bits))
+            return
+        future = self.client.submit(render_frame_files, frame, self.bits, key=f"tracer-frame-{key}", retries=3,
+                                    pure=False)
+        self.in_flight[future.key] = key
+        self.completed.add(future)
+        while len(self.in_flight) >= self.window:
+            self._collect_one()
+
+    def _collect_one(self):
+        future, files = next(self.completed)
+        self.store(self.in_flight.pop(future.key), files)
+
+    def finish(self):
+        while self.in_flight:
+            self._collect_one()
+
+    def cancel(self):
+        if self.client is not None and self.completed is not None:
+            self.client.cancel(list(self.completed.futures))
+
+
+class _CachePaths(Sequence):
+    """The cache files of a movie's frames in order, made from their keys (32 bytes each) when
+    asked for: a movie of a million frames does not hold a million paths."""
+
+    def __init__(self, cache: Path, digests, suffix=".png"):
+        self.cache, self.digests, self.suffix = cache, digests, suffix
+
+    def __len__(self):
+        return len(self.digests)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        return self.cache / f"{self.digests[i].tobytes().hex()}{self.suffix}"
 
 
 # ------------------------------------------------------------------------------------------
@@ -317,49 +377,48 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
                                      else view, names)
     if spectral_out is not None:
         spectral_out = check_spectral_output(spectral_out, out)
-    frames = timeline.frames(settings, display, spectral=spectral_out is not None)
+    frames = timeline.iter_frames(settings, display, spectral=spectral_out is not None)
+    n_frames = len(timeline)
 
+    # Frames are planned, keyed and rendered one at a time: the first renders at once, however
+    # long the movie, and what is kept per frame is its key (32 bytes).  The cluster is reached
+    # (and the cache folder made) at the first frame the cache lacks: nothing is written when
+    # it cannot be reached.
     cache = movie_cache_folder(out)
-    keys = [f.key(bits) for f in frames]
-    paths = [cache / f"{k}.png" for k in keys]
-    spectral_paths = [p.with_suffix(".npz") for p in paths]
-    todo, todo_keys, seen = [], [], set()
-    for f, k, p in zip(frames, keys, paths):
-        cached = p.is_file() and (not f.spectral or p.with_suffix(".npz").is_file())
-        if k not in seen and not cached:  # identical frames are rendered once
-            todo.append(f)
-            todo_keys.append(k)
-        seen.add(k)
+    digests = np.zeros((n_frames, 32), dtype=np.uint8)
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = None
+    if show:
+        from tqdm import tqdm
 
-    def store(frame, files):
-        png, npz = files
-        key = frame.key(bits)
-        if npz is not None:  # first: a frame counts as cached once its .png is there
-            write_atomically(cache / f"{key}.npz", lambda tmp: Path(tmp).write_bytes(npz))
-        write_atomically(cache / f"{key}.png", lambda tmp: Path(tmp).write_bytes(png))
-
+        bar = tqdm(total=n_frames, unit="frame", desc="movie", file=sys.stderr)
+    rendered = 0
     t_render = time.perf_counter()
-    if todo:
-        cache.mkdir(exist_ok=True)
-        show = sys.stderr.isatty() if progress is None else progress
-        bar = None
-        if show:
-            from tqdm import tqdm
-
-            bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), unit="frame", desc="movie",
-                       file=sys.stderr)
-        try:
-            with cluster_client(client, workers, scheduler) as c:
-                if c is None:
-                    for frame in todo:
-                        store(frame, render_frame_files(frame, bits))
-                        if bar is not None:
-                            bar.update(1)
-                else:
-                    _render_distributed(c, todo, bits, todo_keys, store, bar)
-        finally:
-            if bar is not None:
-                bar.close()
+    renderer = None
+    try:
+        with contextlib.ExitStack() as stack:
+            for i, frame in enumerate(frames):
+                key = frame.key(bits)
+                digests[i] = np.frombuffer(bytes.fromhex(key), dtype=np.uint8)
+                cached = (cache / f"{key}.png").is_file() and (not frame.spectral or (cache / f"{key}.npz").is_file())
+                if cached or (renderer is not None and renderer.pending(key)):  # identical frames render once
+                    if bar is not None:
+                        bar.update(1)
+                    continue
+                if renderer is None:
+                    c = stack.enter_context(cluster_client(client, workers, scheduler, names))
+                    cache.mkdir(exist_ok=True)
+                    renderer = _FrameRenderer(c, cache, bits, bar)
+                    stack.callback(renderer.cancel)
+                renderer.submit(frame, key)
+                rendered += 1
+            if renderer is not None:
+                renderer.finish()
+    finally:
+        if bar is not None:
+            bar.close()
+    paths = _CachePaths(cache, digests)
+    spectral_paths = _CachePaths(cache, digests, ".npz")
     t_encode = time.perf_counter()
     if kind == "mp4":
         _write_mp4(out, paths, fps)
@@ -370,4 +429,4 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
     if spectral_out is not None:
         _write_folder(spectral_out, spectral_paths, ".npz")
     t_end = time.perf_counter()
-    return MovieResult(out, len(frames), len(todo), cache, t_encode - t_render, t_end - t_encode)
+    return MovieResult(out, n_frames, rendered, cache, t_encode - t_render, t_end - t_encode)

@@ -158,7 +158,7 @@ def _feed(h, obj):
     elif isinstance(obj, np.ndarray):
         a = np.ascontiguousarray(obj)
         h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
-        h.update(a.tobytes())
+        h.update(a.reshape(-1).view(np.uint8) if a.size else b"")  # its bytes, without a copy
     elif isinstance(obj, (bool, np.bool_)):
         h.update(b"b1" if obj else b"b0")
     elif isinstance(obj, (int, np.integer)):
@@ -187,12 +187,9 @@ def _feed(h, obj):
 
 @functools.lru_cache(maxsize=1)
 def _package_version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
+    import bubbleoptics
 
-    try:
-        return version("bubbleoptics")
-    except PackageNotFoundError:  # a source tree that is not installed
-        return "unknown"
+    return bubbleoptics.__version__  # the one version source (pyproject.toml reads it too)
 
 
 def frame_key(frame: Frame, bits=8) -> str:
@@ -743,8 +740,7 @@ class Timeline:
         for k in (1, frames):  # the camera of every frame must have a direction: check the ends...
             _check_camera(_apply(start, changes, k / frames).scene.camera, k)
         if any(isinstance(c, (_CameraSet, _CameraOrbit)) for c in changes):
-            for k in range(2, frames):  # ...and, when it moves, those between
-                _check_camera(_apply(start, changes, k / frames).scene.camera, k)
+            _check_cameras_between(start.scene.camera, changes, frames)  # ...and, when it moves, those between
         self._segments.append((start, changes, int(frames), self._line))
         self._n_frames += int(frames)
         self._pending = []
@@ -762,22 +758,29 @@ class Timeline:
         """The number of changes made since the last :meth:`render` (not yet in any frame)."""
         return len(self._pending)
 
+    def _shown(self):
+        """Yield ``(scene, time, line)`` for every frame, in order, one at a time."""
+        from .simulated import resolve_simulated_films
+
+        for start, changes, count, line in self._segments:
+            for k in range(1, count + 1):
+                st = _apply(start, changes, k / count)
+                yield resolve_simulated_films(st.scene, st.time), st.time, line
+
     def scenes(self):
         """Yield ``(scene, time)`` for every frame, in order: the scene as the frame shows it
         (its simulated films as the maps they show at the film time, popped bubbles gone:
         :func:`tracer.simulated.resolve_simulated_films`) and the film time in seconds."""
-        from .simulated import resolve_simulated_films
+        for scene, time, _ in self._shown():
+            yield scene, time
 
-        for start, changes, count, _ in self._segments:
-            for k in range(1, count + 1):
-                st = _apply(start, changes, k / count)
-                yield resolve_simulated_films(st.scene, st.time), st.time
-
-    def frames(self, settings=None, display=None, spectral=False) -> list[Frame]:
-        """One :class:`Frame` per image, each with a copy of *settings* (resolved render
-        settings, e.g. from :func:`tracer.render.resolve_settings`; None: the scene's
-        defaults), of *display* (``exposure`` and ``view``; None: 0 and ``"clip"``) and the
-        flag *spectral*. ValueError if changes were made after the last :meth:`render`."""
+    def iter_frames(self, settings=None, display=None, spectral=False):
+        """An iterator of the :class:`Frame` of every image, each made when it is asked for (a
+        movie of a million frames starts rendering at once, and holds one frame at a time),
+        with a copy of *settings* (resolved render settings, e.g. from
+        :func:`tracer.render.resolve_settings`; None: the scene's defaults), of *display*
+        (``exposure`` and ``view``; None: 0 and ``"clip"``) and the flag *spectral*. ValueError
+        (at once, not at the first frame) if changes were made after the last :meth:`render`."""
         if self._pending:
             raise ValueError(f"{len(self._pending)} change(s) after the last render would never be shown: "
                              "call render(K) after them")
@@ -785,9 +788,14 @@ class Timeline:
             from .render import resolve_settings
 
             settings = resolve_settings(self._start.scene)
-        lines = [line for _, _, count, line in self._segments for _ in range(count)]
-        return [Frame(i, scene, dict(settings), time, line, dict(display or DISPLAY_DEFAULTS),
-                      bool(spectral)) for i, ((scene, time), line) in enumerate(zip(self.scenes(), lines))]
+        settings, display, spectral = dict(settings), dict(display or DISPLAY_DEFAULTS), bool(spectral)
+        return (Frame(i, scene, dict(settings), time, line, dict(display), spectral)
+                for i, (scene, time, line) in enumerate(self._shown()))
+
+    def frames(self, settings=None, display=None, spectral=False) -> list[Frame]:
+        """Every :class:`Frame` at once, as a list (:meth:`iter_frames`, which a long movie
+        should use instead)."""
+        return list(self.iter_frames(settings, display, spectral))
 
 
 def _apply(start: _State, changes, t) -> _State:
@@ -819,6 +827,59 @@ def _check_camera(cam: Camera, k):
         cam.basis()
     except ValueError as err:
         raise ValueError(f"frame {k} of this render: {err}") from None
+
+
+#: Frames whose cameras :func:`_check_cameras_between` computes at once (memory: a few MB).
+_CAMERA_CHUNK = 65536
+
+
+def _camera_paths(camera: Camera, changes, k, frames):
+    """``(positions, look_at points)``, arrays (len(k), 3), of the camera at frames *k* (an
+    integer array) of a render of *frames* frames with *changes*: the camera changes applied in
+    order, as :class:`_CameraSet` and :class:`_CameraOrbit` do one frame at a time."""
+    up = np.asarray(camera.up, float)
+    axis = up / np.linalg.norm(up)
+    t = (np.asarray(k) / frames)[:, None]
+    pos = np.tile(np.asarray(camera.position, float), (len(k), 1))
+    look = np.tile(np.asarray(camera.look_at, float), (len(k), 1))
+    for c in changes:
+        if isinstance(c, _CameraOrbit):
+            a = np.radians(t[:, 0] * c.degrees)
+            cos, sin = np.cos(a)[:, None], np.sin(a)[:, None]
+            v = pos - look  # Rodrigues' formula, as _rotation(axis, t degrees) @ v
+            pos = look + v * cos + np.cross(axis, v) * sin + axis * (v @ axis)[:, None] * (1.0 - cos)
+        elif isinstance(c, _CameraSet) and c.name == "position":
+            pos = pos + t * np.asarray(c.delta, float)
+        elif isinstance(c, _CameraSet) and c.name == "look_at":
+            look = look + t * np.asarray(c.delta, float)
+    return pos, look
+
+
+def _check_cameras_between(camera: Camera, changes, frames):
+    """:func:`_check_camera` of frames 2 to *frames* - 1 of a render whose *changes* move the
+    camera, as arrays (:func:`_camera_paths`, a chunk of frames at a time), with Camera.basis's
+    two tests (look_at not at the position; up not parallel to the viewing direction): a render
+    of a million frames is checked in about a second, before any is rendered."""
+    up = np.asarray(camera.up, float)
+    up_unit = up / np.abs(up).max()
+    up_unit = up_unit / np.linalg.norm(up_unit)
+    for k0 in range(2, frames, _CAMERA_CHUNK):
+        k = np.arange(k0, min(frames, k0 + _CAMERA_CHUNK))
+        pos, look = _camera_paths(camera, changes, k, frames)
+        with np.errstate(over="ignore", invalid="ignore"):
+            fwd = look - pos
+            scale = np.abs(fwd).max(axis=1)
+            bad = ~(np.isfinite(scale) & (scale > 0))
+            if bad.any():
+                i = int(np.argmax(bad))
+                what = "coincides with" if not np.any(fwd[i]) else "is too far (overflow) from"
+                raise ValueError(f"frame {int(k[i])} of this render: camera look_at {what} its position")
+            fwd = fwd / scale[:, None]
+            fwd = fwd / np.linalg.norm(fwd, axis=1)[:, None]
+            parallel = ~(np.linalg.norm(np.cross(fwd, up_unit), axis=1) > 1e-12)
+        if parallel.any():
+            raise ValueError(f"frame {int(k[np.argmax(parallel)])} of this render: camera up vector is parallel "
+                             "to the viewing direction")
 
 
 # ------------------------------------------------------------------------------------------
