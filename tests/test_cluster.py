@@ -139,6 +139,8 @@ def test_an_unreachable_scheduler_is_one_line():
     ("tcp://127.0.0.1:x", ["--scheduler: the port must be"]),
     ("tcp://a:b:c", ["--scheduler:", "[IPv6]:PORT"]),
     ("tcp://é:1", ["--scheduler:", "tcp://HOST:PORT"]),
+    ("tcp://" + "h" * 300 + ":1", ["--scheduler:", "at most 253 characters", "..."]),
+    ("tcp://user@host:1", ["--scheduler:", "letters, digits"]),
 ])
 @pytest.mark.parametrize("command", ["image", "movie"])
 def test_every_scheme_is_supported_or_refused_by_name_before_any_work(tmp_path, capsys, address, words, command):

@@ -1,8 +1,10 @@
 """Bad input of every kind: a one-line error naming the option or FILE:LINE and the allowed
 range, exit status 2, nothing written; Ctrl-C stops cleanly; the fuzz contract.
 
-The cases of issue 9 are tested one by one; ``test_fuzz_contract`` runs the seeded mutator of
-``tests/fuzz_inputs.py`` over both scene formats and the command-line options.
+The known cases are tested one by one; ``test_fuzz_contract`` runs the seeded mutator of
+``tests/fuzz_inputs.py`` over both scene formats and the command-line options, and
+``test_fuzz_contract_of_the_newer_inputs`` over simulated-film files, Dask addresses, film-flow
+parameters and movie commands.
 """
 
 import os
@@ -21,7 +23,7 @@ from tracer.cli import main
 from tracer.limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, LimitError, check_memory, check_settings
 
 from cli_helpers import run  # tests/cli_helpers.py
-from fuzz_inputs import check_case, make_cases
+from fuzz_inputs import check_case, make_cases, run_input_cases
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data" / "scenes"
@@ -241,16 +243,35 @@ def test_every_positional_argument_has_help():
             assert action.help, f"tracer {name} {action.dest} has no help text"
 
 
+#: The fuzz tests' seed: 0, so that CI sees the same cases every run (and a failure reproduces);
+#: set TRACER_FUZZ_SEED to explore others.  A failure prints the seed and the command to replay it.
+FUZZ_SEED = int(os.environ.get("TRACER_FUZZ_SEED", "0"))
+
+
 def test_fuzz_contract(tmp_path):
-    """600 mutated scene files and command lines (seed 0): each exits 0 with a finite image and
-    nothing on stderr, or exits 2 with one line and nothing written."""
+    """600 mutated scene files and command lines: each exits 0 with a finite image and nothing
+    on stderr, or exits 2 with one line and nothing written."""
     failures = []
-    for i, case in enumerate(make_cases(600, seed=0)):
+    for i, case in enumerate(make_cases(600, seed=FUZZ_SEED)):
         folder = tmp_path / str(i)
         folder.mkdir()
         problem = check_case(case, folder)
         if problem:
             failures.append(f"{case.name}: {problem}")
-    assert not failures, "\n".join(failures[:20])
+    assert not failures, (f"{len(failures)} of 600 cases broke the contract (seed {FUZZ_SEED}; replay one with "
+                          f"python tests/fuzz_inputs.py --cases 600 --seed {FUZZ_SEED} --replay N):\n"
+                          + "\n".join(failures[:20]))
+
+
+@pytest.mark.parametrize("kind, n", [("series", 300), ("address", 200), ("filmflow", 600), ("commands", 120)])
+def test_fuzz_contract_of_the_newer_inputs(tmp_path, kind, n):
+    """Damaged simulated-film files, Dask addresses and worker counts, film-flow parameters and
+    run lengths at their extremes, mutated movie commands (tests/fuzz_inputs.py, KINDS): each
+    exits 0 with its output and nothing on stderr, or exits 2 with one line and nothing written
+    (a one-line ValueError or a finite result, from the film-flow API)."""
+    failures = run_input_cases(kind, n, FUZZ_SEED, tmp_path)
+    assert not failures, (f"{len(failures)} of {n} {kind} cases broke the contract (seed {FUZZ_SEED}; rerun with "
+                          f"python tests/fuzz_inputs.py --kind {kind} --cases {n} --seed {FUZZ_SEED}):\n"
+                          + "\n".join(failures[:20]))
 
 

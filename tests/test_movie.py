@@ -721,3 +721,10 @@ def test_distributed_frames_are_submitted_a_window_at_a_time(tmp_path, drift, cl
     assert 1 <= peak[0] <= movie_module.FRAMES_IN_FLIGHT_PER_WORKER * 2
     for a, b in zip(sorted((tmp_path / "serial").iterdir()), sorted((tmp_path / "dist").iterdir())):
         assert a.read_bytes() == b.read_bytes()
+
+
+@pytest.mark.api
+def test_a_long_unknown_name_is_not_echoed_in_full():
+    with pytest.raises(CommandsError) as info:
+        Timeline.from_text(three(), "move " + "x" * 5000 + " 1 2 3\nrender 1\n", "movie.txt")
+    assert str(info.value).startswith("movie.txt:1: move: no object named 'xxx") and len(str(info.value)) < 300

@@ -93,6 +93,10 @@ def local_cluster(workers: int):
                         env=env, silence_logs=50)  # CRITICAL: no shutdown chatter on stderr
 
 
+_HOST_CHARACTERS = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-_")
+_IPV6_CHARACTERS = set("0123456789abcdefABCDEF:.%")
+
+
 def check_scheduler_address(address, name="scheduler") -> str:
     """The Dask address *address* as ``tcp://HOST:PORT`` (the scheme ``tcp`` and the port
     :data:`DEFAULT_PORT` when left out), else ValueError naming it as *name*: a scheme other
@@ -121,8 +125,12 @@ def check_scheduler_address(address, name="scheduler") -> str:
         host_text = host
         if location.count(":") > 1:
             raise ValueError(f"{name}: {usage} ([IPv6]:PORT for IPv6), got {shown}")
-    if not host or any(c in host for c in "/?#@ "):
-        raise ValueError(f"{name}: {usage}, got {shown} (no host)" if not host else f"{name}: {usage}, got {shown}")
+    if not host:
+        raise ValueError(f"{name}: {usage}, got {shown} (no host)")
+    allowed = _IPV6_CHARACTERS if host_text.startswith("[") else _HOST_CHARACTERS
+    if len(host) > 253 or not set(host) <= allowed:
+        raise ValueError(f"{name}: {usage}, got {shown} (HOST: a name or an IP address of at most 253 "
+                         "characters, letters, digits, '.', '-', '_')")
     if port == "" and ":" not in location.rpartition("]")[2]:
         port = str(DEFAULT_PORT)
     if not (port.isdigit() and 1 <= int(port) <= 65535):

@@ -580,9 +580,12 @@ class Timeline:
         refs = self._names.get(name)
         if not refs:
             known = ", ".join(repr(n) for n in self._names) or "none"
-            close = difflib.get_close_matches(name, list(self._names), n=1)
+            if len(known) > 200:
+                known = known[:197] + "..."
+            close = difflib.get_close_matches(name, list(self._names), n=1) if len(name) <= 200 else []
             hint = f"; did you mean '{close[0]}'?" if close else ""
-            raise ValueError(f"no object named '{name}'{hint} (the scene's objects: {known})")
+            shown = name if len(name) <= 60 else name[:57] + "..."
+            raise ValueError(f"no object named '{shown}'{hint} (the scene's objects: {known})")
         if len(refs) > 1:
             raise ValueError(f"{len(refs)} objects are named '{name}': a commands file cannot tell them apart")
         return refs[0]
