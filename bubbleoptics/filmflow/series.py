@@ -39,6 +39,8 @@ MAX_SERIES_BYTES = 2**31
 MAX_TIMES = 1_000_000
 #: The longest text each text member may hold, in characters.
 _TEXT_LIMITS = {"format": 200, "model": 200, "parameters": 1_000_000}
+#: Bytes decompressed at a time while a frame is read.
+_READ_CHUNK = 1 << 22
 #: The members a series file holds (each NAME.npy in the zip archive).
 _MEMBERS = ("format", "h_nm", "times", "theta", "phi", "radius", "model", "parameters")
 #: What can go wrong reading a damaged archive or .npy member (zipfile, zlib, numpy's header reader).
@@ -116,7 +118,12 @@ class ThicknessSeries:
             return self.h_nm[-1].astype(float)
         i = int(np.searchsorted(times, t, side="right")) - 1
         w = (t - times[i]) / (times[i + 1] - times[i])
-        return (1.0 - w) * self.h_nm[i].astype(float) + w * self.h_nm[i + 1].astype(float)
+        out = self.h_nm[i].astype(float)  # (1 - w) h_i + w h_{i+1} in place: two frames of float64
+        later = self.h_nm[i + 1].astype(float)
+        out *= 1.0 - w
+        later *= w
+        out += later
+        return out
 
     def node_map_at(self, t):
         """The thickness at time *t* on the n_theta + 1 face latitudes θ_i = iπ/n_theta (poles
@@ -271,9 +278,12 @@ def _read_thickness(archive, info, head, bad):
                 _check_values(out, "h_nm")
                 return out
             buf = bytearray(shape[1] * shape[2] * dtype.itemsize)
+            view = memoryview(buf)
             for i in range(shape[0]):
-                if f.readinto(buf) != len(buf):
-                    raise EOFError(f"the data ends in frame {i}")
+                for a in range(0, len(buf), _READ_CHUNK):  # zipfile's read copies what it returns: small pieces
+                    piece = view[a:a + _READ_CHUNK]
+                    if f.readinto(piece) != len(piece):
+                        raise EOFError(f"the data ends in frame {i}")
                 with np.errstate(over="ignore"):  # beyond float32: inf, refused just below
                     out[i] = np.frombuffer(buf, dtype=dtype).reshape(shape[1:])
                 if not np.isfinite(out[i]).all() or out[i].min() < 0:
