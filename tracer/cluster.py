@@ -99,9 +99,10 @@ _IPV6_CHARACTERS = set("0123456789abcdefABCDEF:.%")
 
 def check_scheduler_address(address, name="scheduler") -> str:
     """The Dask address *address* as ``tcp://HOST:PORT`` (the scheme ``tcp`` and the port
-    :data:`DEFAULT_PORT` when left out), else ValueError naming it as *name*: a scheme other
-    than tcp is refused by name with the reason (:data:`SCHEMES`), and so is a malformed host or
-    port."""
+    :data:`DEFAULT_PORT` when left out; split by distributed's own
+    ``distributed.comm.addressing.parse_host_port``), else ValueError naming it as *name*: a
+    scheme other than tcp is refused by name with the reason (:data:`SCHEMES`), and so is a
+    malformed host or port."""
     shown = repr(address) if not isinstance(address, str) or len(address) <= 60 else repr(address[:57] + "...")
     usage = "a Dask scheduler's address is tcp://HOST:PORT"
     if not isinstance(address, str) or not address or not address.isascii() or not address.isprintable():
@@ -114,28 +115,24 @@ def check_scheduler_address(address, name="scheduler") -> str:
         raise ValueError(f"{name}: unknown scheme '{scheme}://' in {shown} ({usage})")
     if SCHEMES[scheme] is not None:
         raise ValueError(f"{name}: the scheme {scheme}:// {SCHEMES[scheme]}; got {shown}")
-    if location.startswith("["):  # [IPv6]:PORT
-        host, bracket, rest = location[1:].partition("]")
-        if not bracket or (rest and not rest.startswith(":")):
-            raise ValueError(f"{name}: {usage} ([IPv6]:PORT for IPv6), got {shown}")
-        port = rest[1:] if rest else ""
-        host_text = f"[{host}]"
-    else:
-        host, _, port = location.partition(":") if location.count(":") == 1 else (location, "", "")
-        host_text = host
-        if location.count(":") > 1:
-            raise ValueError(f"{name}: {usage} ([IPv6]:PORT for IPv6), got {shown}")
+    from distributed.comm.addressing import parse_host_port, unparse_host_port
+
+    tail = location.rpartition("]")[2]  # after an [IPv6] host: ":PORT" or nothing
+    if tail.count(":") == 1 and tail.rpartition(":")[2] and not tail.rpartition(":")[2].isdigit():
+        raise ValueError(f"{name}: the port must be an integer from 1 to 65535, got {shown}")
+    try:
+        host, port = parse_host_port(location, default_port=DEFAULT_PORT)
+    except ValueError:
+        raise ValueError(f"{name}: {usage} ([IPv6]:PORT for IPv6), got {shown}") from None
     if not host:
         raise ValueError(f"{name}: {usage}, got {shown} (no host)")
-    allowed = _IPV6_CHARACTERS if host_text.startswith("[") else _HOST_CHARACTERS
+    allowed = _IPV6_CHARACTERS if ":" in host else _HOST_CHARACTERS
     if len(host) > 253 or not set(host) <= allowed:
         raise ValueError(f"{name}: {usage}, got {shown} (HOST: a name or an IP address of at most 253 "
                          "characters, letters, digits, '.', '-', '_')")
-    if port == "" and ":" not in location.rpartition("]")[2]:
-        port = str(DEFAULT_PORT)
-    if not (port.isdigit() and 1 <= int(port) <= 65535):
+    if not 1 <= port <= 65535:
         raise ValueError(f"{name}: the port must be an integer from 1 to 65535, got {shown}")
-    return f"tcp://{host_text}:{int(port)}"
+    return "tcp://" + unparse_host_port(host, port)
 
 
 def _handshake(address, deadline):
@@ -149,8 +146,9 @@ def _handshake(address, deadline):
 
     from distributed.comm import connect as comm_connect
 
-    host, _, port = address[len("tcp://"):].rpartition(":")
-    host = host[1:-1] if host.startswith("[") else host
+    from distributed.comm.addressing import parse_host_port
+
+    host, port = parse_host_port(address)
     phase = ["connect"]
 
     async def talk():
