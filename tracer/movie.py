@@ -349,7 +349,11 @@ def render_movie(scene, commands, out, *, client=None, workers=None, scheduler=N
         :data:`tracer.DEFAULTS`.
 
     Everything is checked before any work (ValueError, or a :class:`~tracer.errors.SceneError`
-    ``FILE:LINE: ...`` for the scene and the commands), and nothing is written then.
+    ``FILE:LINE: ...`` for the scene and the commands), and nothing is written then.  Frames
+    are then made, keyed and rendered one at a time (:meth:`Timeline.iter_frames
+    <tracer.movie_commands.Timeline.iter_frames>`; on a cluster a window of them in flight), so
+    the first frame of the longest movie renders at once and memory stays flat; the cluster is
+    reached, and the cache folder made, at the first frame the cache lacks.
     """
     out, kind = check_movie_output(out)
     if not isinstance(scene, Scene):
