@@ -215,15 +215,22 @@ def _edit(args):
         return _fail(f"tracer edit: error: {err}")
     try:
         scene = _load_scene(args.scene) if args.scene else None
-        return serve(scene, port=args.port, address=args.address, show=not args.no_browser, width=args.width,
-                     height=args.height, root=root, token=token, allow_hosts=args.allow_host,
-                     **({} if args.max_sessions is None else {"max_sessions": args.max_sessions}))
+        status = serve(scene, port=args.port, address=args.address, show=not args.no_browser, width=args.width,
+                       height=args.height, root=root, token=token, allow_hosts=args.allow_host,
+                       **({} if args.max_sessions is None else {"max_sessions": args.max_sessions}))
     except SceneError as err:
         return _fail(str(err))
     except ValueError as err:  # a name the editor refuses, an option out of range
         return _fail(f"tracer edit: error: {err}")
     except OSError as err:  # e.g. the port is taken
         return _fail(f"tracer edit: error: {err}")
+    # The server has stopped: its renders are cancelled and its saves done.  End the process
+    # now: the interpreter's own teardown (collecting Panel's, Bokeh's and numba's objects)
+    # takes seconds on a busy machine, and a kernel that numba is still compiling (a first
+    # run) cannot be stopped at all.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
 
 
 def _fail(message):

@@ -56,14 +56,15 @@ def _show(text) -> str:
 
 def check_name(name, what="name") -> str:
     """*name* (an object's name, a file name) if it is text of at most :data:`MAX_NAME_LENGTH`
-    characters with no control or format character (a newline in a name would start a new line
-    of a commands file; a bidirectional override would make it read as something else), else
+    characters with no control or format character and no line or paragraph separator (a
+    newline in a name would start a new line of a commands file, U+2028 would in an editor that
+    shows it; a bidirectional override would make it read as something else), else
     :class:`ValueError` saying so."""
     if not isinstance(name, str):
         raise ValueError(f"{what} must be a string, got {type(name).__name__}")
     if len(name) > MAX_NAME_LENGTH:
         raise ValueError(f"{what} has {len(name)} characters, at most {MAX_NAME_LENGTH} are allowed")
-    bad = next((c for c in name if unicodedata.category(c) in ("Cc", "Cf", "Cs")), None)
+    bad = next((c for c in name if unicodedata.category(c) in ("Cc", "Cf", "Cs", "Zl", "Zp")), None)
     if bad is not None:
         raise ValueError(f"{what} {_show(name)!r} has a control character (U+{ord(bad):04X}): names are"
                          " printable text")

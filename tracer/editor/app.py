@@ -459,9 +459,10 @@ class EditorApp:
             return None
         name = Path(self.upload.filename or "scene.toml").name
         data = self.upload.value
-        if self.access.max_bytes is not None and len(data) > self.access.max_bytes:
-            raise FieldError("scene_path", f"{name}: {len(data):,} bytes, more than the {self.access.max_bytes:,}"
-                                           " allowed here")
+        limit = self.access.max_scene_bytes or self.access.max_bytes
+        if limit is not None and len(data) > limit:
+            raise FieldError("scene_path", f"{name}: {len(data):,} bytes, more than the {limit:,} allowed for a scene"
+                                           " file")
         scene = yield (_parse_upload, name, data, self.access)
         self.model.replace(scene)
         self._edited(None)
@@ -804,7 +805,8 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
     besides this machine's that a request's Host may give (a reverse proxy's).  *ready*: called
     with the URL once the server listens.  See :mod:`tracer.editor.security`.
     """
-    from .security import TokenAuth, allowed_hosts, is_loopback, new_secret, new_token, refuse_foreign_hosts
+    from .security import (TokenAuth, allowed_hosts, guard_component_resources, is_loopback, new_secret, new_token,
+                           refuse_foreign_hosts)
 
     check_serve_options(address, token, width, height)
     access = FileAccess(root if root is not None else Path.cwd(), max_bytes=MAX_ASSET_BYTES,
@@ -837,6 +839,7 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
                       websocket_max_message_size=MAX_SCENE_BYTES * 4 // 3 + 2**20)
     # Bokeh's Server keeps its Tornado application as _tornado (Panel reaches it the same way)
     refuse_foreign_hosts(server._tornado, hosts)
+    guard_component_resources(server._tornado)
     shown_host = "127.0.0.1" if address in ("0.0.0.0", "::", "") else address
     url = f"http://{shown_host}:{port}/" + (f"?token={token}" if token else "")
     if not quiet:
@@ -872,12 +875,9 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
         stopped = _shutdown(server)
     if not quiet:
         print("tracer edit: stopped", file=sys.stderr, flush=True)
-    if not stopped:
-        # numba is compiling a kernel (the first run on this machine), which cannot be stopped:
-        # nothing is being written, so end the process now rather than wait for it
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(0)
+    if not stopped and not quiet:
+        print("tracer edit: numba is still compiling a kernel (it cannot be stopped); nothing is being written",
+              file=sys.stderr, flush=True)
     return 0
 
 

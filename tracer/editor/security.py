@@ -17,6 +17,11 @@ provide for it:
   rebinding) cannot reach the editor.
 - **Signed sessions.**  Bokeh signs every session id with a per-run secret key
   (``sign_sessions``): a session id or token made up by a client is refused.
+- **Panel's component resources.**  Panel serves the files of a component class named in the
+  URL (``/components/MODULE/CLASS/...``), importing ``MODULE`` to find it, with no
+  authentication: any module installed could be imported (and its import-time code run) by
+  anyone who reaches the port.  :func:`guard_component_resources` puts the token check in
+  front of that route and lets it name Panel's and Bokeh's own modules only.
 
 The websocket's ``Origin`` must also be one of the allowed hosts at the served port (Bokeh's
 ``allow_websocket_origin``).
@@ -35,7 +40,7 @@ from bokeh.server.auth_provider import AuthProvider
 from tornado.web import RequestHandler
 
 __all__ = ["new_token", "new_secret", "is_loopback", "allowed_hosts", "TokenAuth", "refuse_foreign_hosts",
-           "cookie_name"]
+           "guard_component_resources", "cookie_name"]
 
 #: Names of this machine's loopback interface, always allowed as Host.
 LOOPBACK_HOSTS = ("localhost", "127.0.0.1", "::1", "[::1]")
@@ -191,3 +196,28 @@ def refuse_foreign_hosts(tornado_app, hosts) -> None:
 
     names = "|".join(sorted(re.escape(h.lower()) for h in hosts))
     tornado_app.add_handlers(rf"(?!(?:{names})$).*", [(r".*", _ForeignHostHandler)])
+
+
+#: The packages whose components' resources Panel may serve (``/components/MODULE/...``).
+COMPONENT_PACKAGES = ("panel", "bokeh")
+
+
+def guard_component_resources(tornado_app) -> None:
+    """Route Panel's ``/components/`` requests through a subclass of its handler that asks for
+    the token first and refuses a module outside :data:`COMPONENT_PACKAGES` before anything is
+    imported (Tornado's rule list: :meth:`tornado.web.Application.add_handlers` puts this one
+    before Panel's own)."""
+    from panel.io.server import COMPONENT_PATH, ComponentResourceHandler
+    from tornado.web import HTTPError
+
+    class _GuardedComponents(ComponentResourceHandler):
+        def prepare(self):
+            if self.application.auth_provider.get_user(self) is None:
+                raise HTTPError(403, "this editor needs its token")
+            path = self.path_kwargs.get("path") or (self.path_args[0] if self.path_args else "")
+            module = path.split("/", 1)[0]
+            if module.split(".", 1)[0] not in COMPONENT_PACKAGES:
+                raise HTTPError(403, "only Panel's and Bokeh's components are served")
+            return super().prepare()
+
+    tornado_app.add_handlers(r".*", [(rf"/{COMPONENT_PATH}(?P<path>.*)", _GuardedComponents, {})])
