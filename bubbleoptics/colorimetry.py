@@ -264,9 +264,10 @@ def linear_srgb_to_srgb(x):
     .. math::  V = 12.92\\,L \\ (L \\le 0.0031308), \\qquad V = 1.055\\,L^{1/2.4} - 0.055
 
     Elementwise on any array; values outside [0, 1] are not clipped (negative values stay on
-    the linear segment), NaN gives NaN.  Equal to the bit to
-    ``colour.cctf_encoding(x, function="sRGB")``; written here only so that a render need not
-    import colour-science (start-up time; the formula is :func:`bubbleoptics.kernels.srgb_encode_nb`).
+    the linear segment), NaN gives NaN.  Equal to ``colour.cctf_encoding(x, function="sRGB")``
+    to a relative 1e-15 (NumPy's vectorised power, which colour-science uses, can differ from
+    the C library's by an ulp), and to the bit to the formula with the C library's pow; written here only so that a render need not import colour-science
+    (start-up time; the formula is :func:`bubbleoptics.kernels.srgb_encode_nb`).
 
     >>> from bubbleoptics.colorimetry import linear_srgb_to_srgb
     >>> round(float(linear_srgb_to_srgb(0.18)), 7)
@@ -282,7 +283,7 @@ def srgb_to_linear_srgb(v):
 
     The inverse of :func:`linear_srgb_to_srgb`; the break point is the encoded 0.0031308, as in
     colour-science (the standard rounds it to 0.04045; no 8- or 16-bit code lies between the
-    two).  Equal to the bit to ``colour.cctf_decoding(v, function="sRGB")``.  An 8-bit code
+    two).  Equal to ``colour.cctf_decoding(v, function="sRGB")`` to a relative 1e-15.  An 8-bit code
     ``c`` decodes as ``srgb_to_linear_srgb(c / 255)``.
 
     >>> from bubbleoptics.colorimetry import srgb_to_linear_srgb

@@ -763,8 +763,9 @@ def water_index_array(wavelength):
 # Written here (rather than calling colour-science's cctf_encoding / cctf_decoding) so that
 # saving a render needs neither colour-science's import (seconds) nor NumPy's elementwise
 # temporaries (a 960x960 image took 0.3 s): the array kernels are one parallel pass.  They
-# follow colour-science's eotf_inverse_sRGB and eotf_sRGB operation for operation (libm pow,
-# as NumPy's power), so the results are identical to the bit (tests/test_colorimetry.py).
+# follow colour-science's eotf_inverse_sRGB and eotf_sRGB operation for operation with the C
+# library's pow; NumPy's vectorised power, which colour-science calls, can differ from it by an
+# ulp (tests/test_colorimetry.py: to the bit against the formula, 1e-15 against colour-science).
 SRGB_LINEAR_BELOW = 0.0031308  # linear-light value where the curve turns from linear to power
 SRGB_ENCODED_BELOW = SRGB_LINEAR_BELOW * 12.92  # the same point encoded (0.040449936)
 
