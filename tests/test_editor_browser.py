@@ -189,7 +189,7 @@ def test_parameters_settings_clear_and_readme_screenshot(editor):
     assert _settles_to(editor, before)
     editor.fill("depth", "0")
     editor.button("Apply settings").click()
-    editor.expect_message("depth", "depth must be an integer from 1 to 1000")
+    editor.expect_message("depth", "depth must be an integer from 1 to 64 in the editor")
 
     box = editor.page.locator(".editor-image").bounding_box()
     editor.page.mouse.click(box["x"] + 0.3 * box["width"], box["y"] + 0.45 * box["height"])

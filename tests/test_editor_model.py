@@ -63,8 +63,8 @@ def test_edits_undo_and_commands_file_replays_to_the_edited_scene(tmp_path):
     (lambda m: m.change_parameters("old", swirl="2"), "swirl", "swirl must be >= 0 and <= 1, got 2"),
     (lambda m: m.change_parameters("old", n_film="-3"), "n_film", "n_film must be 'water' or a number"),
     (lambda m: m.change_parameters("old", thickness_nm="nan"), "thickness_nm", "thickness_nm must be"),
-    (lambda m: m.set_settings(depth="0"), "depth", "depth must be an integer from 1 to 1000, got 0"),
-    (lambda m: m.set_settings(spp="x"), "spp", "spp must be an integer from 1 to 65536"),
+    (lambda m: m.set_settings(depth="0"), "depth", "depth must be an integer from 1 to 64 in the editor (its render"),
+    (lambda m: m.set_settings(spp="x"), "spp", "spp must be an integer from 1 to 256 in the editor"),
     (lambda m: m.set_settings(exposure="99"), "exposure", "exposure must be a number of stops from -64 to 64"),
     (lambda m: m.zoom("0"), "zoom", "zoom must be > 0"),
 ])

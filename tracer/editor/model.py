@@ -130,14 +130,17 @@ def check_settings_field(name, value):
             raise FieldError(name, f"exposure must be a number of stops from {-MAX_EXPOSURE:g} to "
                                    f"{MAX_EXPOSURE:g}, got {value}")
         return v
+    cap = EDITOR_LIMITS[name]
     try:
         value = int(value) if isinstance(value, str) and value.strip().lstrip("+-").isdigit() else value
         v = check_setting(name, value)
-    except ValueError as err:
-        raise FieldError(name, str(err)) from None
-    if v > EDITOR_LIMITS[name]:
-        raise FieldError(name, f"{name} must be an integer from 1 to {EDITOR_LIMITS[name]} in the editor (its render"
-                               f" budget; tracer image renders more), got {v}")
+        if v > cap:
+            raise ValueError
+    except ValueError:
+        shown = str(value).strip()
+        shown = shown if len(shown) <= 40 else shown[:37] + "..."
+        raise FieldError(name, f"{name} must be an integer from 1 to {cap} in the editor (its render budget;"
+                               f" tracer image renders more), got {shown}") from None
     return v
 
 
