@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from net_helpers import JUNK, tcp_server  # tests/net_helpers.py
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = sorted((ROOT / "data" / "scenes").glob("*.toml")) + sorted((ROOT / "data" / "scenes").glob("*.txt"))
@@ -175,14 +176,7 @@ def check_case(case: Case, folder: Path) -> str | None:
             return f"exit 0 but left {left}"
         return None
     if status == 2:
-        lines = err.rstrip("\n").split("\n")
-        if len(lines) != 1 or not lines[0]:
-            return f"exit 2 with {len(lines)} lines: {err!r}"
-        if len(lines[0]) > 400:
-            return f"exit 2 with a {len(lines[0])}-character line"
-        if left:
-            return f"exit 2 but left {left}"
-        return None
+        return _one_line(status, err, (), left)
     return f"exit {status}: {err[-2000:]!r}"
 
 
@@ -487,40 +481,10 @@ def _check_filmflow(case: InputCase) -> str | None:
     return None
 
 
-@contextlib.contextmanager
-def junk_server():
-    """A TCP server on 127.0.0.1 that answers every connection with bytes that are not Dask's
-    protocol (a length prefix of 3 EiB); yields its address."""
-    import socket
-    import struct
-    import threading
-
-    sock = socket.create_server(("127.0.0.1", 0))
-    held = []
-
-    def serve():
-        while True:
-            try:
-                conn, _ = sock.accept()
-            except OSError:
-                return
-            held.append(conn)
-            with contextlib.suppress(OSError):
-                conn.sendall(struct.pack("<Q", int(3.07 * 2**60)) + b"junk")
-
-    threading.Thread(target=serve, daemon=True).start()
-    try:
-        yield f"tcp://127.0.0.1:{sock.getsockname()[1]}"
-    finally:
-        sock.close()
-        for conn in held:
-            conn.close()
-
-
 def run_input_cases(kind: str, n: int, seed: int, folder: Path) -> list[str]:
     """Run ``make_input_cases(kind, n, seed)`` in subfolders of *folder*; the failures."""
     failures = []
-    with junk_server() as junk:
+    with tcp_server(JUNK) as junk:
         for i, case in enumerate(make_input_cases(kind, n, seed)):
             sub = folder / f"{kind}-{i}"
             sub.mkdir()

@@ -3,12 +3,9 @@ render, bit for bit, from Python and from ``tracer image --workers N``."""
 
 from __future__ import annotations
 
-import contextlib
 import inspect
 import os
-import socket
 import struct
-import threading
 import time
 from pathlib import Path
 
@@ -23,6 +20,7 @@ from tracer.cluster import (CONNECT_DEADLINE, check_cluster_options, check_sched
 from tracer.pack import pack_scene
 from tracer.render import render_tile, render_with_stats, resolve_settings
 from cli_helpers import assert_one_line, run  # tests/cli_helpers.py
+from net_helpers import JUNK, tcp_server  # tests/net_helpers.py
 
 ROOT = Path(__file__).resolve().parent.parent
 THREE = ROOT / "data" / "scenes" / "coursework_three_bubbles.txt"
@@ -166,38 +164,10 @@ def test_a_tcp_address_is_normalised_as_dask_reads_it(address, normal):
     assert check_scheduler_address(address) == normal
 
 
-@contextlib.contextmanager
-def _server(answer):
-    """A TCP server on a free port of 127.0.0.1 that accepts every connection and sends
-    *answer* (bytes; None: nothing, ever); yields its tcp:// address."""
-    sock = socket.create_server(("127.0.0.1", 0))
-    held = []
-
-    def serve():
-        while True:
-            try:
-                conn, _ = sock.accept()
-            except OSError:
-                return
-            held.append(conn)
-            if answer is not None:
-                with contextlib.suppress(OSError):
-                    conn.sendall(answer)
-
-    thread = threading.Thread(target=serve, daemon=True)
-    thread.start()
-    try:
-        yield f"tcp://127.0.0.1:{sock.getsockname()[1]}"
-    finally:
-        sock.close()
-        for conn in held:
-            conn.close()
-
-
 @pytest.mark.api
 @pytest.mark.parametrize("answer, reason", [
     (None, f"it accepted the connection but did not answer Dask's handshake within {CONNECT_DEADLINE:g} s"),
-    (struct.pack("<Q", int(3.07 * 2**60)) + b"junk", "it answered, but not in Dask's protocol (a message header "
+    (JUNK, "it answered, but not in Dask's protocol (a message header "
                                                       "claiming more bytes than memory)"),
     (struct.pack("<Q", 2**20), f"it accepted the connection but did not answer Dask's handshake within "
                                f"{CONNECT_DEADLINE:g} s"),  # 1 MiB promised, never sent
@@ -210,7 +180,7 @@ def test_a_silent_or_wrong_server_fails_within_the_deadline_with_the_reason(tmp_
     pytest.importorskip("distributed")
     commands = tmp_path / "c.txt"
     commands.write_text("render 2\n")
-    with _server(answer) as address:
+    with tcp_server(answer) as address:
         start = time.monotonic()
         status, _, err = run(["movie", tmp_path / "m", commands, "--width", "4", "--height", "4", "--quiet",
                               "--scheduler", address], capsys)
@@ -224,7 +194,7 @@ def test_a_silent_or_wrong_server_fails_within_the_deadline_with_the_reason(tmp_
 @pytest.mark.api
 def test_the_deadline_is_the_configured_one():
     pytest.importorskip("distributed")
-    with _server(None) as address:
+    with tcp_server(None) as address:
         start = time.monotonic()
         with pytest.raises(ValueError, match="within 0.5 s"):
             connect(address, timeout=0.5)

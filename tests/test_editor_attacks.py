@@ -36,17 +36,10 @@ from urllib.parse import urlencode, urlparse
 import numpy as np
 import pytest
 
-pytest.importorskip("panel", reason="the scene editor needs Panel: pip install 'bubbleoptics[editor]'")
-pytest.importorskip("playwright", reason="the browser tests need Playwright: pip install 'bubbleoptics[test]'")
+from tracer.editor.testing import EditorPage, editor_server, launch, require_browser
 
-from tracer.editor.testing import CHROMIUM_HINT, EditorPage, chromium_path, editor_server, launch  # noqa: E402
-
+require_browser()
 pytestmark = pytest.mark.browser
-
-if chromium_path() is None:
-    if os.environ.get("CI"):
-        raise RuntimeError(CHROMIUM_HINT)
-    pytest.skip(CHROMIUM_HINT, allow_module_level=True)
 
 REPO = Path(__file__).resolve().parents[1]
 #: The image's side where the render's size does not matter (quick renders).

@@ -18,7 +18,7 @@ import tempfile
 import time
 from contextlib import contextmanager
 
-__all__ = ["chromium_path", "CHROMIUM_HINT", "editor_server", "launch", "EditorPage"]
+__all__ = ["chromium_path", "CHROMIUM_HINT", "require_browser", "editor_server", "launch", "EditorPage"]
 
 #: What to do when no Chromium is found (one line).
 CHROMIUM_HINT = ("no Chromium for the editor's browser tests: on Debian/Ubuntu `sudo apt-get install chromium` "
@@ -45,6 +45,20 @@ class Served(str):
     def log(self) -> str:
         self._log.seek(0)
         return self._log.read()
+
+
+def require_browser():
+    """For a browser test module, at its top: skip the module, with one line saying what to
+    install, when Panel, Playwright or Chromium is missing; except that under CI (``CI`` set)
+    a missing Chromium is an error, since CI must run these tests."""
+    import pytest
+
+    pytest.importorskip("panel", reason="the scene editor needs Panel: pip install 'bubbleoptics[editor]'")
+    pytest.importorskip("playwright", reason="the browser tests need Playwright: pip install 'bubbleoptics[test]'")
+    if chromium_path() is None:
+        if os.environ.get("CI"):
+            raise RuntimeError(CHROMIUM_HINT)
+        pytest.skip(CHROMIUM_HINT, allow_module_level=True)
 
 
 @contextmanager
