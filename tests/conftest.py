@@ -51,3 +51,14 @@ def client():
 
     with local_cluster(2) as cluster, distributed.Client(cluster) as c:
         yield c
+
+
+@pytest.fixture()
+def editor(browser, server):
+    """The scene editor open in a page of the browser test module's ``browser``, served by its
+    ``server`` (tests/test_editor_browser.py, tests/test_editor_attacks.py); closed after."""
+    from tracer.editor.testing import EditorPage
+
+    ed = EditorPage(browser, server)
+    yield ed
+    ed.page.close()

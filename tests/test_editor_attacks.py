@@ -303,13 +303,6 @@ def long_server(tmp_path_factory):
         yield url
 
 
-@pytest.fixture()
-def editor(browser, server):
-    ed = EditorPage(browser, server)
-    yield ed
-    ed.page.close()
-
-
 # ------------------------------------------------------------------------------------------
 # 1. authentication
 # ------------------------------------------------------------------------------------------

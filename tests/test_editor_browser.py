@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tracer.editor.testing import EditorPage, editor_server, launch, require_browser
+from tracer.editor.testing import editor_server, launch, require_browser
 
 require_browser()
 pytestmark = pytest.mark.browser
@@ -71,13 +71,6 @@ def browser():
 def server(root):
     with editor_server(width=SIZE, height=SIZE, cwd=ROOT, args=("--root", str(root))) as url:
         yield url
-
-
-@pytest.fixture()
-def editor(browser, server):
-    ed = EditorPage(browser, server)
-    yield ed
-    ed.page.close()
 
 
 def test_load_fills_lists_and_bad_file_keeps_scene(editor, scene_file, root):

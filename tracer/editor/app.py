@@ -439,14 +439,10 @@ class EditorApp:
         path = self.scene_path.value.strip()
         if not path:
             raise FieldError("scene_path", "give a scene file's path (TOML or the coursework's format)")
-        scene = yield (self._read_scene, path)
-        self.model.replace(scene)
+        scene = yield (load_scene, path, self.access)  # SceneError: the old scene stays
+        self.model.replace(scene)  # FieldError for a name with a control character
         self._edited(None)
         return self._loaded_message(path)
-
-    def _read_scene(self, path):
-        scene = load_scene(path, self.access)  # SceneError: the old scene stays
-        return EditorModel.check_names(scene)
 
     def _loaded_message(self, name):
         notes = self.model.budget_notes
@@ -699,10 +695,8 @@ def _parse_upload(name, data, access):
 
     text = decode_scene_bytes(name, data)
     if name.lower().endswith(".toml"):
-        scene = parse_toml_text(text, name, access, base=access.root or Path.cwd())
-    else:
-        scene = parse_coursework_text(split_lines(text), name)
-    return EditorModel.check_names(scene)
+        return parse_toml_text(text, name, access, base=access.root or Path.cwd())
+    return parse_coursework_text(split_lines(text), name)
 
 
 _SAVES_LOCK = threading.Condition()
@@ -794,7 +788,7 @@ def check_serve_options(address, token, width=None, height=None):
 
 
 def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, height=None, quiet=False,
-          root=None, token=None, allow_hosts=(), max_sessions=MAX_SESSIONS, ready=None):
+          root=None, token=None, allow_hosts=(), max_sessions=MAX_SESSIONS):
     """Serve the editor for *scene* at http://ADDRESS:PORT/ until Ctrl-C or SIGTERM (then the
     server stops within about a second and this returns 0).  *port* 0 picks a free one.  Each
     browser tab gets its own editor (and its own scene), up to *max_sessions* at once.
@@ -802,8 +796,8 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
     *token*: None (a new random one, printed in the URL), a string (that one), or False (none:
     only on a loopback *address*, with a warning).  *root*: the folder (default: the working
     folder) that every file the page loads or saves resolves inside.  *allow_hosts*: names
-    besides this machine's that a request's Host may give (a reverse proxy's).  *ready*: called
-    with the URL once the server listens.  See :mod:`tracer.editor.security`.
+    besides this machine's that a request's Host may give (a reverse proxy's).  See
+    :mod:`tracer.editor.security`.
     """
     from .security import (TokenAuth, allowed_hosts, guard_component_resources, is_loopback, new_secret, new_token,
                            refuse_foreign_hosts)
@@ -864,8 +858,6 @@ def serve(scene=None, *, port=5006, address="127.0.0.1", show=True, width=None, 
         server.start()
         if show:
             server.io_loop.add_callback(partial(_open_browser, url))
-        if ready is not None:
-            server.io_loop.add_callback(partial(ready, url))
         server.io_loop.start()
     except KeyboardInterrupt:
         pass

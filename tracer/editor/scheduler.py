@@ -25,7 +25,7 @@ from __future__ import annotations
 import itertools
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..render import PARALLEL_LOCK, RenderCancelled
 
@@ -46,9 +46,7 @@ class _Job:
     cancel: threading.Event
     on_error: object = None
     priority: int = INTERACTIVE
-    started: bool = False
     seq: int = 0
-    done: threading.Event = field(default_factory=threading.Event)
 
 
 class RenderScheduler:
@@ -140,7 +138,6 @@ class RenderScheduler:
     def _drop(self, job):
         if self._jobs.get((id(job.owner), job.kind)) is job:
             del self._jobs[(id(job.owner), job.kind)]
-        job.done.set()
         job.steps.close()
 
     def _run(self):
