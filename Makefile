@@ -3,6 +3,9 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+# The studies (study/: analyses of the optics and the tracer for the benchmarks, notebooks and
+# paper) are not part of the wheel; the checkout's root goes on the venv's path so they import.
+CHECKOUT_PTH = $(PY) -c 'import pathlib, sysconfig; pathlib.Path(sysconfig.get_paths()["purelib"], "bubbleoptics-checkout.pth").write_text("$(CURDIR)\n")'
 
 .PHONY: demo test chromium bench paper clean clean-cache activate
 
@@ -10,6 +13,7 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
+	$(CHECKOUT_PTH)
 	touch $(STAMP)
 
 ## make demo: the main job: render the built-in bubble scene (960x960), plus the thin-film plots.

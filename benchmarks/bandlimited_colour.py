@@ -6,7 +6,7 @@ Writes ``data/derived/bandlimited_colour.csv``.
 Setting: a free-standing water film (Daimon & Masumura 2007 dispersion) in air, unpolarized,
 thickness 0-20 µm (4001 values), angles of incidence 0° and 60°, CIE 1931 2° observer, D65.
 Reference: the 1 nm spectrum, 360-780 nm (``bubbleoptics.film_color(..., wavelengths_nm=None)``
-before display encoding).  Error: CIE ΔE00 (:func:`bubbleoptics.study.delta_e00_XYZ`: colour-science's
+before display encoding).  Error: CIE ΔE00 (:func:`study.delta_e00_XYZ`: colour-science's
 CIEDE2000 of ``colour.XYZ_to_Lab`` with the illuminant's white), per thickness; the table gives its median,
 95th percentile, maximum, and the thickness of the maximum over 0-20 µm, and the median and
 maximum over 0-2 µm alone (the saturated low orders; over 0-20 µm the grey thick films, where
@@ -28,18 +28,18 @@ Methods (N bands of equal width over 360-780 nm):
 * ``bandlimited``: ``film_XYZ_bandlimited`` -- CMFs x D65 as continuous piecewise polynomials of
   degree ``order`` in wavenumber, integrated exactly against the film's band moments.
 
-Second block: the published approaches of :mod:`bubbleoptics.study.film_colour` (that module's
+Second block: the published approaches of :mod:`study.film_colour` (that module's
 docstring gives their sources, construction and check), each on its own setting, illuminant E
 and a film of constant index n = 1.33 (the setting of the Gaussian fit of L. Belcour and P.
 Barla, ACM TOG 36(4), 65, 2017, also used by Blender 4.2's thin film), with each term of the
 film's exact Fourier series in OPD weighted by the approach's sensitivity S(OPD):
 
 * ``gaussian_fit_BB2017``: the Gaussian fit of the CMFs
-  (:func:`~bubbleoptics.study.film_colour.bb_film_XYZ`)
+  (:func:`~study.film_colour.bb_film_XYZ`)
   against the 1 nm spectrum under E with the same n; ``gaussian_fit_vs_dispersive`` compares it
   with the water (dispersive) reference under E instead, adding the error of ignoring dispersion.
 * ``lut_nondispersive``: the lookup table of the exact 1 nm sensitivity
-  (:func:`~bubbleoptics.study.film_colour.lut_table`, every 1 nm of OPD to 64.8 µm).
+  (:func:`~study.film_colour.lut_table`, every 1 nm of OPD to 64.8 µm).
 
 ``lut_nondispersive`` against the constant-index reference measures the table's own error
 (interpolation and the dropped terms; tiny).  ``lut_nondispersive_vs_dispersive`` against the
@@ -54,13 +54,13 @@ offset the dispersion error at some thicknesses (the Gaussian fit's maximum at 6
 
 ``lut_blender_like`` (against the n = 1.33 reference: the table's own error) and
 ``lut_blender_like_vs_dispersive`` (against the water reference): the same series with the table
-rebuilt like Blender's (:func:`~bubbleoptics.study.film_colour.blender_like_table`: 512 complex
+rebuilt like Blender's (:func:`~study.film_colour.blender_like_table`: 512 complex
 entries every 18.7 nm of OPD to 9.55 µm, last entry held, m <= 3, RGB per-channel DC
 normalization).  The rows follow the later of the two revisions of Blender's kernel (real and
 imaginary parts interpolated); the run prints the earlier's errors (magnitude and phase,
 ``polar=True``, not a row).
 
-Checked at every run (:func:`~bubbleoptics.study.film_colour.check_lut`): at thicknesses whose OPD
+Checked at every run (:func:`~study.film_colour.check_lut`): at thicknesses whose OPD
 falls on table nodes, the table's series equals the direct 1 nm integration of
 ``film_reflectance(..., n_film=1.33)`` to 1e-11 in XYZ up to 2 µm and to 1e-5 up to 20 µm.
 
@@ -81,8 +81,8 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import delta_e00_XYZ, provenance, wall_times, write_csv
-from bubbleoptics.study.film_colour import (
+from study import delta_e00_XYZ, provenance, wall_times, write_csv
+from study.film_colour import (
     BLENDER_STEP_NM,
     BLENDER_TERMS,
     LUT_STEP_NM,
@@ -135,7 +135,7 @@ def main(argv=None):
 
     def reference(XYZ, ill):
         """The reference colours, and the exposure k that makes the brightest film of 0-1 um white
-        (as bubbleoptics.study.stability and notebook 01 show them)."""
+        (as study.stability and notebook 01 show them)."""
         return dict(XYZ=XYZ, exposure=1.0 / XYZ[d <= 1000.0, 1].max())
 
     def dE00(XYZ, ref, ill):

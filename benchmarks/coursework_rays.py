@@ -1,10 +1,10 @@
 """Rays per level of the ray tree, and run time, of the coursework's scenes with two bubble models.
 
 Run:  python benchmarks/coursework_rays.py [--repeats N] [--quick] [--models thin,two]
-Writes ``data/derived/coursework_rays.csv`` (read by :func:`bubbleoptics.study.coursework.load_rays`).
+Writes ``data/derived/coursework_rays.csv`` (read by :func:`study.coursework.load_rays`).
 
 Why: the coursework's times grow by a factor *b* of about 1.7 per trace depth (its table 4.1; the fit
-:func:`bubbleoptics.study.fit_affine_exponential`), ours barely grow.  Its bubble was two concentric
+:func:`study.fit_affine_exponential`), ours barely grow.  Its bubble was two concentric
 spheres (its scene format: an outer and an inner sphere, each with a material); ours is one
 thin-film surface.  This counts the rays of each level of the exhaustive tree (threshold 0) for
 
@@ -16,7 +16,7 @@ thin-film surface.  This counts the rays of each level of the exhaustive tree (t
 at 960x960, one sample per pixel, depths 1-10.  The tracer's counters give the secondary rays
 (reflected + transmitted) of the whole tree up to depth *d*; with threshold 0 the tree at depth
 *d* is the tree at depth *d* − 1 plus one more generation, so the rays of level *d* are the
-difference of the totals at depths *d* and *d* − 1 (:func:`bubbleoptics.study.coursework.rays_per_level`; no
+difference of the totals at depths *d* and *d* − 1 (:func:`study.coursework.rays_per_level`; no
 change to the integrator).  Level 1 is the camera rays.
 
 Times: each (model, bubbles, depth) cell rendered ``--repeats`` times (default 5), interleaved
@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, write_csv
+from study import provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "coursework_rays.csv"
@@ -62,7 +62,7 @@ def main(argv=None):
     import tracer
     from tqdm import tqdm
 
-    from bubbleoptics.study.coursework import rays_per_level
+    from study.coursework import rays_per_level
 
     load_before = os.getloadavg()[0]
     scenes = {(m, nb): tracer.load_scene(ROOT / "data" / "scenes" / MODELS[m][nb]) for m in models for nb in NAMES}

@@ -1,7 +1,7 @@
 """The coursework's table 4.1 re-run: render time against trace depth for one, two and three bubbles.
 
 Run:  python benchmarks/coursework_table.py [--repeats N] [--quick]
-Writes ``data/derived/coursework_table.csv`` (read by :func:`bubbleoptics.study.load_timing`).
+Writes ``data/derived/coursework_table.csv`` (read by :func:`study.load_timing`).
 
 Setting of the coursework's table: 960x960, one sample per pixel, trace depth 1 to 10, the scenes
 ``data/scenes/coursework_{one_bubble,two_bubbles,three_bubbles}.txt`` (reconstructions: the coursework
@@ -31,8 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import load_coursework_table, provenance, write_csv
-from bubbleoptics.study.results import image_benchmark_arguments
+from study import load_coursework_table, provenance, write_csv
+from study.results import image_benchmark_arguments
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "coursework_table.csv"

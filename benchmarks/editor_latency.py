@@ -35,7 +35,7 @@ import statistics
 import sys
 from pathlib import Path
 
-from bubbleoptics.study.results import image_benchmark_arguments, provenance, write_csv
+from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "editor.csv"

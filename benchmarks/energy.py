@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, write_csv
+from study import provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "energy.csv"
@@ -138,7 +138,7 @@ def absorbing_row(size):
 def pruning_row(size):
     """The built-in scene, default pruning against the exhaustive tree."""
     import tracer
-    from bubbleoptics.study.metrics import delta_e00_images
+    from study.metrics import delta_e00_images
 
     scene = tracer.default_scene()
     full, s0 = tracer.render_with_stats(scene, width=size, height=size, depth=DEPTH, threshold=0.0, progress=False)

@@ -36,7 +36,7 @@ import numba
 import numpy as np
 
 from bubbleoptics.filmflow import FilmGrid, FilmParameters, PlugFlow, RigidDrainage
-from bubbleoptics.study import provenance, write_csv
+from study import provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "film_flow.csv"

@@ -6,7 +6,7 @@ Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) a
 black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film_flow.py``).
 
 The checks are those of ``tests/test_film_flow.py``, computed by the same helpers (both import
-them from :mod:`bubbleoptics.study.film_flow`: ``plug_equilibrium_error``,
+them from :mod:`study.film_flow`: ``plug_equilibrium_error``,
 ``rigid_characteristics_profile``, ``plug_transient_differences``), on more grids:
 
 * ``apex``: rigid drainage from a uniform film, steps of τ/20 to 10τ; the largest relative error
@@ -23,9 +23,9 @@ them from :mod:`bubbleoptics.study.film_flow`: ``plug_equilibrium_error``,
   and the evaporated volume against E t 4πR² (rigid: 10 steps of 2 s; plug: 100 steps of 10 ms);
 * ``black``: plug flow with the default (cited) parameters on :data:`BLACK_GRID`, steps of
   :data:`BLACK_DT`, to 1.2 h0/E: when the apex (top row, mean over φ), the first cell anywhere
-  and the whole film go below :data:`BLACK_NM` (:func:`bubbleoptics.study.film_flow.first_crossing`),
+  and the whole film go below :data:`BLACK_NM` (:func:`study.film_flow.first_crossing`),
   and the estimates h0/E (uniform evaporation), h_eq(0)/E (the equilibrium apex evaporating) and
-  the rigid apex law's time to the same thickness (:func:`~bubbleoptics.study.film_flow.rigid_black_time`);
+  the rigid apex law's time to the same thickness (:func:`~study.film_flow.rigid_black_time`);
 * ``frames``: :data:`FRAME_TIMES` frames of that series on a bubble under the sky (the notebook
   07 view), rendered at :data:`FRAME_SIZE` pixels, depth 4, the other render settings the
   defaults; the seconds a frame took (median, min, max) are in the CSV.
@@ -47,9 +47,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 from bubbleoptics.filmflow import FilmGrid, FilmParameters, PlugFlow, RigidDrainage
-from bubbleoptics.study import film_flow as ff
-from bubbleoptics.study import provenance, write_csv
-from bubbleoptics.study.film_flow import STILL, plug_equilibrium_error, plug_transient_differences, rigid_characteristics_profile
+from study import film_flow as ff
+from study import provenance, write_csv
+from study.film_flow import STILL, plug_equilibrium_error, plug_transient_differences, rigid_characteristics_profile
 
 OUT = ROOT / "data" / "derived" / "film_flow_validation.csv"
 BLACK_NM = 30.0  # "black film": thinner than this (issue 11, as notebook 07)

@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study.results import image_benchmark_arguments, provenance, write_csv
+from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "mesh_scale.csv"

@@ -42,7 +42,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from bubbleoptics.study.results import image_benchmark_arguments, provenance, write_csv
+from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "movie.csv"

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, wall_times, write_csv
+from study import provenance, wall_times, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "optics_speed.csv"

@@ -91,7 +91,7 @@ def run_case(size, case, render=False):
 
 
 def main(argv=None):
-    from bubbleoptics.study.results import provenance, write_csv
+    from study.results import provenance, write_csv
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--size", type=int, default=4000)

@@ -25,7 +25,7 @@ thin film) on an icosphere (20 * 4^6 triangles, radial normals), path tracing, 3
    same with water's dispersion (Daimon & Masumura) instead of n = 1.33: what dispersion changes.
    Cycles at ``CYCLES_REF_SPP`` spp with two seeds (mean and own noise likewise); ours at its
    defaults (16 bands, 1 spp, threshold 1e-3, depth 10).
-3. **Colour differences.**  CIEDE2000 per pixel (:func:`bubbleoptics.study.delta_e00_images`),
+3. **Colour differences.**  CIEDE2000 per pixel (:func:`study.delta_e00_images`),
    mean and 95th percentile over the bubble (pixels whose footprint lies inside the silhouette
    by more than 1.5 px), the edge (within 1.5 px of it) and all pixels (:func:`pixel_masks`).
 4. **Decomposition** (:func:`model_image`).  A bubble of uniform film seen in an environment
@@ -192,7 +192,7 @@ def pixel_masks(size=SIZE, fov_deg=FOV_DEG, distance=4.0, radius=RADIUS, edge_px
 
 def de_stats(image, reference, masks):
     """{region_mean, region_p95} of the per-pixel CIEDE2000 between two linear-RGB images."""
-    from bubbleoptics.study.metrics import delta_e00_images
+    from study.metrics import delta_e00_images
 
     de = delta_e00_images(image, reference)
     out = {}
@@ -422,9 +422,9 @@ def main(argv=None):
 
     import tracer
 
-    from bubbleoptics.study import provenance, write_csv
-    from bubbleoptics.study.fronts import time_at_error
-    from bubbleoptics.study.metrics import rmse
+    from study import provenance, write_csv
+    from study.fronts import time_at_error
+    from study.metrics import rmse
 
     quick = args.quick
     size = 48 if quick else SIZE
@@ -597,7 +597,7 @@ def main(argv=None):
     ]
     write_csv(out, rows, comments, fieldnames=columns, float_format="{:.6g}", extrasaction="ignore")
     # small images for the figure: reference, Cycles, their dE00 (float16)
-    from bubbleoptics.study.metrics import delta_e00_images
+    from study.metrics import delta_e00_images
 
     figure = {}
     for dd, s in stored.items():

@@ -43,7 +43,7 @@ pinhole camera (vertical field of view 40 degrees), 256x256, box pixel filter in
    median is the run's time) so that the accounting has enough clock ticks.  seconds = the
    median of the clean runs; the CSV keeps every run with its share.
    Seeds differ between rounds; the error is that of the first round.  Errors: RMSE over
-   pixels and channels (linear RGB) and mean CIEDE2000 (:func:`bubbleoptics.study.delta_e00_images`)
+   pixels and channels (linear RGB) and mean CIEDE2000 (:func:`study.delta_e00_images`)
    against each reference.
 5. **Time to equal error.**  log(time) interpolated linearly in log(error) along each curve.
 
@@ -64,9 +64,9 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, write_csv
-from bubbleoptics.study.fronts import time_at_error
-from bubbleoptics.study.metrics import delta_e00_images, rmse
+from study import provenance, write_csv
+from study.fronts import time_at_error
+from study.metrics import delta_e00_images, rmse
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "peer_mitsuba.csv"

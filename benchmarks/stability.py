@@ -3,9 +3,9 @@
 Run:  python benchmarks/stability.py [--quick]
 Writes ``data/derived/stability_grazing.csv`` and ``data/derived/stability_aliasing.csv``
 (read by ``notebooks/05_stability.ipynb`` and ``paper/scripts/fig_stability.py``) and prints a
-summary.  The tests and their analysis are :mod:`bubbleoptics.study.stability` (the notebook
+summary.  The tests and their analysis are :mod:`study.stability` (the notebook
 calls the same functions): grazing incidence against the 40-digit references of
-:mod:`bubbleoptics.study.reference` (needs the ``test`` extra: mpmath, tmm), and the colour of
+:mod:`study.reference` (needs the ``test`` extra: mpmath, tmm), and the colour of
 thick films from few point-sampled bands against the 1 nm reference.
 """
 
@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, write_csv
-from bubbleoptics.study.stability import (
+from study import provenance, write_csv
+from study.stability import (
     ALIASING_COLUMNS,
     GRAZING_COLUMNS,
     GRAZING_FILMS,

@@ -41,7 +41,7 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from bubbleoptics.study.results import image_benchmark_arguments, provenance, write_csv
+from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "throughput.csv"

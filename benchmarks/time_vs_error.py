@@ -10,7 +10,7 @@ so in quick mode.
 
 This script renders; the study itself -- the settings swept, the references and their floor,
 the error metrics, the interior and bubble pixels, the front and the verdict on the defaults
--- is :mod:`bubbleoptics.study.tradeoffs` (its docstring describes and justifies each), which the
+-- is :mod:`study.tradeoffs` (its docstring describes and justifies each), which the
 notebook and the paper import as well.
 
 Scenes (:func:`scene_files`): the built-in scene (``tracer.default_scene()``), six bubbles
@@ -51,9 +51,9 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, write_csv
-from bubbleoptics.study.metrics import finite_image
-from bubbleoptics.study.tradeoffs import (
+from study import provenance, write_csv
+from study.metrics import finite_image
+from study.tradeoffs import (
     AA_DE00,
     CACHE_REFS_DIR,
     COLUMNS,
@@ -279,7 +279,7 @@ def _row(name, scene, factor, value, s, size, runs, errors, rays, ref_seconds, i
 # Files
 # ------------------------------------------------------------------------------------------
 def write_rows(rows, path, notes=()):
-    """Write *rows* to *path* (:func:`bubbleoptics.study.write_csv`), each note as a leading
+    """Write *rows* to *path* (:func:`study.write_csv`), each note as a leading
     ``# `` line; floats to 6 significant digits, NaN as an empty cell, columns ``tradeoffs.COLUMNS``
     (read back by ``tradeoffs.read_rows``)."""
     return write_csv(path, rows, list(notes), fieldnames=COLUMNS, float_format="{:.6g}", na_rep="",
@@ -354,7 +354,7 @@ def main(argv=None):
             f"seconds: median of {repeats} render_seconds (compilation excluded), interleaved, with min and max; "
             f"references timed once each (the reference row: both runs); sweeps around tracer.DEFAULTS {json.dumps(default_settings())}",
             f"errors: mean over seeds {list(SWEEP_SEEDS[:seeds])} (_sd: standard deviation over seeds; 1-spp renders "
-            "sample the pixel centre and do not depend on the seed); dE00: bubbleoptics.study.delta_e00_images "
+            "sample the pixel centre and do not depend on the seed); dE00: study.delta_e00_images "
             "(linear sRGB, negative values clipped to 0); rmse: linear sRGB, unclipped; non-finite pixels set to 0",
             f"interior: pixels none of whose 3x3 neighbourhood is an edge: the two references differ by >= "
             f"{AA_DE00:g} dE00, or its {SUB_PIXELS}x{SUB_PIXELS} sub-pixel camera rays meet different spheres first; "

@@ -5,9 +5,9 @@ Each scene is rendered twice with the same settings, seed and rays, once with ev
 ``"two-beam"`` (the coursework's formula, ``bubbleoptics.two_beam_reflectance``, T = 1 - R), so
 the two images differ by the film model only.  The settings are converged for the comparison
 (:data:`SETTINGS`: 81 point bands of about 5 nm, 4 samples per pixel, depth 10, no pruning);
-the colour difference ΔE00 per pixel is ``bubbleoptics.study.metrics.delta_e00_images``
+the colour difference ΔE00 per pixel is ``study.metrics.delta_e00_images``
 (colour-science's CIEDE2000), summarized over the pixels all of whose sub-pixel rays meet a
-bubble first (``bubbleoptics.study.tradeoffs.bubble_mask``: what the film model changes directly;
+bubble first (``study.tradeoffs.bubble_mask``: what the film model changes directly;
 other pixels change only through reflections of bubbles).
 
 Scenes: the built-in scene (three draining bubbles, 25-950 nm, under a point light), the six
@@ -37,9 +37,9 @@ from pathlib import Path
 
 import numpy as np
 
-from bubbleoptics.study import provenance, write_csv
-from bubbleoptics.study.metrics import delta_e00_images
-from bubbleoptics.study.tradeoffs import bubble_mask, pixel_hits
+from study import provenance, write_csv
+from study.metrics import delta_e00_images
+from study.tradeoffs import bubble_mask, pixel_hits
 
 ROOT = Path(__file__).resolve().parents[1]
 DERIVED = ROOT / "data" / "derived"
@@ -153,7 +153,7 @@ def main(argv=None):
                          f"{os.cpu_count()} cores visible; load average {load_before} before, {load_after} after; "
                          f"{time.perf_counter() - t0:.0f} s",
                          "settings " + ", ".join(f"{k}={v}" for k, v in settings.items()) + f", {size}x{size}",
-                         "ΔE00: bubbleoptics.study.metrics.delta_e00_images (colour-science CIEDE2000) of the "
+                         "ΔE00: study.metrics.delta_e00_images (colour-science CIEDE2000) of the "
                          "two-beam render against the Airy one; bubble pixels: tradeoffs.bubble_mask",
                          "regenerate with: python benchmarks/two_beam_render.py" + (" --quick" if args.quick else ""))
     write_csv(out, rows, comment, fieldnames=COLUMNS)

@@ -1,4 +1,4 @@
-"""Rays per level of the exhaustive ray tree (``bubbleoptics.study.coursework.rays_per_level``),
+"""Rays per level of the exhaustive ray tree (``study.coursework.rays_per_level``),
 for the thin-film and the two-sphere models of the coursework's bubble.
 
 * ``analytic``: cases whose level counts are known without the tracer's counters: a matte sphere
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import tracer
-from bubbleoptics.study.coursework import load_rays, rays_per_level, rays_series
+from study.coursework import load_rays, rays_per_level, rays_series
 from tracer.coursework_format import parse_coursework_text
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,11 +10,11 @@ from bubbleoptics.filmflow.parameters import GAS_CONSTANT
 
 import filmflow_reference as ref  # tests/filmflow_reference.py
 
-from bubbleoptics.study.film_flow import STILL
-from bubbleoptics.study.film_flow import plug_transient_differences
-from bubbleoptics.study.film_flow import plug_equilibrium_error as _equilibrium_error
-from bubbleoptics.study.film_flow import rigid_characteristics_profile as _characteristics_profile
-from bubbleoptics.study.film_flow import unit_exponent_parameters as _a_one
+from study.film_flow import STILL
+from study.film_flow import plug_transient_differences
+from study.film_flow import plug_equilibrium_error as _equilibrium_error
+from study.film_flow import rigid_characteristics_profile as _characteristics_profile
+from study.film_flow import unit_exponent_parameters as _a_one
 
 
 # ---------------------------------------------------------------- rigid drainage

@@ -1,4 +1,4 @@
-"""bubbleoptics.study.film_flow: the analyses of notebooks/07_film_flow.ipynb, each against a closed form."""
+"""study.film_flow: the analyses of notebooks/07_film_flow.ipynb, each against a closed form."""
 
 import math
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from bubbleoptics.filmflow import FilmGrid, FilmParameters, RigidDrainage
-from bubbleoptics.study import film_flow as ff
+from study import film_flow as ff
 
 
 @pytest.mark.analytic

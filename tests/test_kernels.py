@@ -88,10 +88,10 @@ _FREE_GRID = [
 @pytest.mark.reference
 def test_free_film_against_mpmath():
     """free_film_setup_nb/evaluate (Airy's formula with the coefficient of finesse) against the
-    40-digit Airy sum of bubbleoptics.study.reference, s, p and unpolarized, from normal to
+    40-digit Airy sum of study.reference, s, p and unpolarized, from normal to
     exactly grazing incidence and from index match to n = 2.5: within 1e-13 absolute."""
     from bubbleoptics.kernels import free_film_evaluate_nb, free_film_setup_nb
-    from bubbleoptics.study import reference as ref
+    from study import reference as ref
 
     worst = 0.0
     for wl, c0, n1, d, n0 in _FREE_GRID[::3]:

@@ -95,7 +95,7 @@ def test_no_number_is_na_with_the_repositorys_data(numbers):
 
 @pytest.mark.parametrize("path", sorted(DERIVED.glob("*.csv")), ids=lambda p: p.name)
 def test_every_derived_csv_names_its_writer_machine_and_date(path):
-    """The first line of each benchmark output is bubbleoptics.study.provenance's header: the
+    """The first line of each benchmark output is study.provenance's header: the
     script that wrote it, the date and the machine (what make_numbers.py reads back)."""
     first = path.read_text(encoding="utf-8").splitlines()[0]
     m = re.fullmatch(r"# written by (benchmarks/\w+\.py) on (\d{4}-\d{2}-\d{2}).*", first)

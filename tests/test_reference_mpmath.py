@@ -1,6 +1,6 @@
 """THE ACCURACY BAR: ``bubbleoptics`` thin-film optics against a 40-digit mpmath reference.
 
-The reference (``bubbleoptics/study/reference.py``) evaluates the textbook formulas -- Fresnel
+The reference (``study/reference.py``) evaluates the textbook formulas -- Fresnel
 coefficients (Born & Wolf, *Principles of Optics*, §1.5), the Airy sum for one film
 (Born & Wolf §7.6.1) and the 2x2 transfer-matrix product for a stack (Byrnes,
 "Multilayer optical calculations", arXiv:1603.02720, §4) -- in 40-digit arithmetic on the
@@ -28,7 +28,7 @@ import math
 import mpmath
 import numpy as np
 import pytest
-from bubbleoptics.study import reference as ref  # the slow, literal references (mpmath, tmm)
+from study import reference as ref  # the slow, literal references (mpmath, tmm)
 
 
 

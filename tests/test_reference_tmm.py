@@ -3,7 +3,7 @@
 Two sections:
 
 * **reference self-checks** (class ``TestReferenceSelfChecks``): the slow references of
-  ``bubbleoptics/study/reference.py`` checked against each other, against ``tmm.coh_tmm`` (S. J. Byrnes,
+  ``study/reference.py`` checked against each other, against ``tmm.coh_tmm`` (S. J. Byrnes,
   arXiv:1603.02720) and against analytic facts -- energy conservation R + T = 1 for lossless
   media (Born & Wolf, *Principles of Optics*, §1.5.3), the quarter- and half-wave layers at normal
   incidence (Born & Wolf §7.6.1 / §1.6.4), Brewster's angle and the Stokes relations.  These do
@@ -23,7 +23,7 @@ import math
 import mpmath
 import numpy as np
 import pytest
-from bubbleoptics.study import reference as ref  # the slow, literal references (mpmath, tmm)
+from study import reference as ref  # the slow, literal references (mpmath, tmm)
 
 
 

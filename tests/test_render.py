@@ -273,8 +273,8 @@ def test_band_averaged_films_do_not_alias_thick_bubbles():
     """A 15-micron uniform bubble under the sky: with 16 bands, films evaluated at the band
     centres alias (their fringes are finer than a band), films averaged over each band do not.
     Reference: the same render with 421 one-nanometre bands (the 1 nm colour integration).
-    Mean CIEDE2000 over the bubble's pixels (bubbleoptics.study.delta_e00)."""
-    from bubbleoptics.study import delta_e00
+    Mean CIEDE2000 over the bubble's pixels (study.delta_e00)."""
+    from study import delta_e00
 
     scene = bubble_scene(15000.0, env=Environment(kind="sky"))
     kw = dict(width=32, height=32, depth=4, threshold=0.0, progress=False)

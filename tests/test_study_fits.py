@@ -1,4 +1,4 @@
-"""bubbleoptics.study.fits and .coursework: growth-law fits, model comparison, the coursework's table.
+"""study.fits and .coursework: growth-law fits, model comparison, the coursework's table.
 
 * ``analytic``: synthetic data from a known law (noise-free: recovered to rounding; with a
   seeded random noise: within the reported standard errors).
@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bubbleoptics.study import (
+from study import (
     COURSEWORK_COLUMNS,
     compare_fits,
     fit_affine_exponential,
@@ -24,7 +24,7 @@ from bubbleoptics.study import (
     load_timing,
     timing_series,
 )
-from bubbleoptics.study.fits import branching_interval
+from study.fits import branching_interval
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 DEPTH = np.arange(1.0, 11.0)

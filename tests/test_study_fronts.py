@@ -1,4 +1,4 @@
-"""bubbleoptics.study.fronts and .tradeoffs: Pareto fronts, time to equal error, and the verdict on
+"""study.fronts and .tradeoffs: Pareto fronts, time to equal error, and the verdict on
 the tracer's defaults.
 
 * ``analytic``: hand-made Pareto sets and curves; a hand-made study of two scenes whose verdict
@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bubbleoptics.study import pareto_front, time_at_error, tradeoffs
+from study import pareto_front, time_at_error, tradeoffs
 
 DERIVED = Path(__file__).resolve().parents[1] / "data" / "derived"
 DEFAULTS = dict(spectral=True, spectral_samples=16, spectral_method="auto", threshold=1e-3, spp=1, depth=10)

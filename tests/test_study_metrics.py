@@ -1,4 +1,4 @@
-"""bubbleoptics.study.metrics: the one CIEDE2000 (colour-science's), and the errors of a render.
+"""study.metrics: the one CIEDE2000 (colour-science's), and the errors of a render.
 
 * ``reference``: CIEDE2000 against published values (Sharma, Wu & Dalal 2005, the pairs
   colour-science's own tests use) and against colour-science's own pipeline.
@@ -11,8 +11,8 @@ import colour
 import numpy as np
 import pytest
 
-from bubbleoptics.study import delta_e00, delta_e00_images, delta_e00_XYZ
-from bubbleoptics.study.metrics import finite_image, rmse
+from study import delta_e00, delta_e00_images, delta_e00_XYZ
+from study.metrics import finite_image, rmse
 
 
 def _lab_to_linear_srgb(lab):

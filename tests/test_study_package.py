@@ -1,10 +1,10 @@
 """The study package's place in the repository: what it imports, what it exports, who uses it.
 
-* ``bubbleoptics.study`` never imports :mod:`tracer` (the tracer depends on bubbleoptics, never
-  the reverse), ``import bubbleoptics`` does not import it, and importing it adds none of the heavy
-  libraries (scipy, matplotlib, colour-science) nor the test extra's mpmath and tmm.
+* ``study`` lives beside the two packages, not in the wheel: it may import both, neither imports
+  it, and importing it adds none of the heavy libraries (scipy, matplotlib, colour-science) nor the
+  test extra's mpmath and tmm.
 * Every module has a curated ``__all__`` whose names exist.
-* The slow references stay independent of the fast code: :mod:`bubbleoptics.study.reference`
+* The slow references stay independent of the fast code: :mod:`study.reference`
   imports nothing of bubbleoptics, and says what to install when mpmath is missing.
 * One CIEDE2000 and no script reaching another by path, in the repository's code: benchmarks,
   paper scripts, notebooks and the package.
@@ -22,9 +22,9 @@ import pytest
 pytestmark = pytest.mark.api
 
 ROOT = Path(__file__).resolve().parents[1]
-STUDY = ROOT / "bubbleoptics" / "study"
+STUDY = ROOT / "study"
 MODULES = sorted(p.stem for p in STUDY.glob("*.py") if p.stem != "__init__")
-HEAVY = ("scipy", "matplotlib", "colour", "mpmath", "tmm", "tracer")
+HEAVY = ("scipy", "matplotlib", "colour", "mpmath", "tmm")
 
 
 def _python(code):
@@ -43,33 +43,37 @@ def test_import_adds_no_heavy_library_and_bubbleoptics_does_not_import_it():
 import json, sys
 import bubbleoptics
 before = set(sys.modules)
-import bubbleoptics.study
+import study
 after_init = set(sys.modules)
 for name in {[m for m in MODULES if m != "reference"]!r}:
-    __import__("bubbleoptics.study." + name)
-print(json.dumps(dict(bubbleoptics_imports_study="bubbleoptics.study" in before,
-                      added=sorted(m.split(".")[0] for m in after_init - before),
-                      tracer="tracer" in sys.modules)))
+    __import__("study." + name)
+print(json.dumps(dict(bubbleoptics_imports_study="study" in before,
+                      added=sorted(m.split(".")[0] for m in after_init - before))))
 """
     result = json.loads(_python(code))
     assert not result["bubbleoptics_imports_study"]
     assert not set(result["added"]) & set(HEAVY), result["added"]
-    assert not result["tracer"]
+
+
+def test_neither_package_imports_the_study():
+    for package in ("bubbleoptics", "tracer"):
+        for path in (ROOT / package).rglob("*.py"):
+            tree = ast.parse(path.read_text(encoding="utf-8"))
+            imported = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
+            imported |= {node.module or "" for node in ast.walk(tree)
+                         if isinstance(node, ast.ImportFrom) and node.level == 0}
+            assert not any(m == "study" or m.startswith("study.") for m in imported), path
 
 
 @pytest.mark.parametrize("name", MODULES)
-def test_no_module_imports_tracer_and_each_has_all(name):
-    tree = ast.parse((STUDY / f"{name}.py").read_text(encoding="utf-8"))
-    imported = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
-    imported |= {node.module or "" for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
-    assert not any(m == "tracer" or m.startswith("tracer.") for m in imported), imported
-    module = importlib.import_module(f"bubbleoptics.study.{name}")
+def test_each_module_has_all(name):
+    module = importlib.import_module(f"study.{name}")
     assert module.__all__ and all(hasattr(module, n) for n in module.__all__), name
     assert module.__doc__ and len(module.__doc__) > 100
 
 
 def test_init_reexports_a_short_list():
-    import bubbleoptics.study as study
+    import study as study
 
     assert 10 <= len(study.__all__) <= 30
     assert all(hasattr(study, n) for n in study.__all__)
@@ -91,7 +95,7 @@ def test_reference_says_what_to_install_without_mpmath():
 import sys
 sys.modules["mpmath"] = None  # as if the test extra were not installed
 try:
-    import bubbleoptics.study.reference
+    import study.reference
 except ImportError as exc:
     print(exc)
 """
@@ -99,7 +103,7 @@ except ImportError as exc:
 
 
 def _code_files():
-    for folder in ("benchmarks", "paper/scripts", "bubbleoptics"):
+    for folder in ("benchmarks", "paper/scripts", "bubbleoptics", "study", "tracer"):
         yield from (ROOT / folder).rglob("*.py")
     yield from (ROOT / "notebooks").glob("*.ipynb")
 
@@ -113,7 +117,7 @@ def _code_of(path):
 
 def test_one_ciede2000():
     users = sorted(str(p.relative_to(ROOT)) for p in _code_files() if "CIE 2000" in _code_of(p))
-    assert users == ["bubbleoptics/study/metrics.py"]
+    assert users == ["study/metrics.py"]
 
 
 def test_no_script_imports_another_by_path():

@@ -1,4 +1,4 @@
-"""bubbleoptics.study.tradeoffs: the masks, metrics and floor of the time-against-error study.
+"""study.tradeoffs: the masks, metrics and floor of the time-against-error study.
 
 * ``analytic``: the bubble and silhouette masks against a sphere's projection worked out in
   the image plane (not by intersecting rays); the interior mask, the seeds' statistics and the
@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from bubbleoptics.study import tradeoffs
+from study import tradeoffs
 
 CAMERA = dict(origin=np.zeros(3), forward=np.array([0.0, 0.0, -1.0]), right=np.array([1.0, 0.0, 0.0]),
               up=np.array([0.0, 1.0, 0.0]), tan_half_fov=math.tan(math.radians(20.0)))

@@ -14,6 +14,7 @@ import shutil
 import subprocess
 import sys
 import sysconfig
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -89,6 +90,8 @@ def test_the_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "--no-index", "--quiet",
           "--wheel-dir", dist, src], cwd=tmp_path, env=env)
     (wheel,) = dist.glob("bubbleoptics-*.whl")
+    tops = {name.split("/")[0] for name in zipfile.ZipFile(wheel).namelist()}
+    assert {"bubbleoptics", "tracer"} <= tops and "study" not in tops, tops  # the studies stay in the checkout
 
     _run([sys.executable, "-m", "venv", "--without-pip", venv], cwd=tmp_path, env=env)
     python = venv / "bin" / "python"

@@ -1,13 +1,13 @@
 """Figure: film colour from few spectral samples, against thickness, by method.
 
 Run:  python paper/scripts/fig_bandlimited.py [--quick]
-Computes with the bubbleoptics package and the approaches of :mod:`bubbleoptics.study.film_colour`
+Computes with the bubbleoptics package and the approaches of :mod:`study.film_colour`
 (the Gaussian CMF fit ``bb_film_XYZ`` and the lookup table ``lut_table`` / ``lut_film_XYZ``, as
 ``benchmarks/bandlimited_colour.py`` uses them); reads ``data/derived/bandlimited_colour.csv``
 (written by that benchmark) only to check the curves against it; writes
 ``fig_bandlimited.pdf``/``.png``.
 
-Every curve is the CIEDE2000 (:func:`bubbleoptics.study.delta_e00_XYZ` with the illuminant's
+Every curve is the CIEDE2000 (:func:`study.delta_e00_XYZ` with the illuminant's
 white, as the benchmark computes it) between a method's colour and the 1 nm reference, both
 exposed so that the reference's brightest film of 0-1 µm is white (:func:`exposure`, the
 benchmark's ``exposure``; the paper's one convention for film-colour differences, also that of
@@ -40,8 +40,8 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics.study import delta_e00_XYZ, read_commented_csv
-from bubbleoptics.study.film_colour import bb_film_XYZ, lut_film_XYZ, lut_table
+from study import delta_e00_XYZ, read_commented_csv
+from study.film_colour import bb_film_XYZ, lut_film_XYZ, lut_table
 
 CSV = paths.DERIVED / "bandlimited_colour.csv"
 WINDOW_NM = 200.0  # running maximum over this window of thickness

@@ -14,7 +14,7 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics.study import read_commented_csv
+from study import read_commented_csv
 
 DATA = paths.DERIVED / "throughput.csv"
 CASES = [("empty", "10", "empty"), ("coursework_1_bubble", "1", "1 bubble, d1"),

@@ -22,8 +22,8 @@ from matplotlib.lines import Line2D
 
 import paths
 import style
-from bubbleoptics.study import load_coursework_table, load_timing, timing_series
-from bubbleoptics.study.coursework import timing_spread
+from study import load_coursework_table, load_timing, timing_series
+from study.coursework import timing_spread
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 OFFSET = {"coursework": 0.0, "exhaustive": -0.12, "pruned": 0.12}  # in depth, so bars do not overlap

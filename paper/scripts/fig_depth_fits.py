@@ -10,7 +10,7 @@ it fitted to the times by absolute residuals), one colour per scene.  Bottom: re
 (t − t̂)/t of each law, one panel per law, titled with its number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
 to depths 1-7 (TRAIN_DEPTH), which tells a law that explains the growth from one that
 interpolates it.  The legend gives each column's 95 % profile-likelihood interval of b
-(:func:`bubbleoptics.study.fits.branching_interval`).  All fits by bubbleoptics.study with the same weighting (relative, 1/t; the
+(:func:`study.fits.branching_interval`).  All fits by study with the same weighting (relative, 1/t; the
 quartic as well, so that every law sits at its own optimum of the same criterion).
 Quick mode draws the same figure (the fits take milliseconds).
 """
@@ -21,11 +21,11 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics import study
-from bubbleoptics.study.fits import branching_interval
+import study
+from study.fits import branching_interval
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
-LAWS = {  # model name of bubbleoptics.study's fits -> panel title, line style, fitter
+LAWS = {  # model name of study's fits -> panel title, line style, fitter
     "affine exponential": ("$a + c\\,b^d$ (3)", "-", study.fit_affine_exponential),
     "exponential": ("$a\\,b^d$ (2)", ":", study.fit_exponential),
     "polynomial, degree 4": ("quartic, refitted (5)", "--",

@@ -19,7 +19,7 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics.study import read_commented_csv
+from study import read_commented_csv
 
 CSV = paths.DERIVED / "film_flow_validation.csv"
 NPZ = paths.DERIVED / "film_flow_validation.npz"

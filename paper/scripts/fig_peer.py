@@ -21,7 +21,7 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics.study import read_commented_csv
+from study import read_commented_csv
 
 PEER = paths.DERIVED / "peer_mitsuba.csv"
 

@@ -22,7 +22,7 @@ import numpy as np
 import paths
 import style
 from bubbleoptics.colorimetry import linear_srgb_to_srgb
-from bubbleoptics.study import read_commented_csv
+from study import read_commented_csv
 
 IMAGES = paths.DERIVED / "peer_cycles_images.npz"
 TABLE = paths.DERIVED / "peer_cycles.csv"

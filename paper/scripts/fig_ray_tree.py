@@ -10,7 +10,7 @@ pixel; level 1 is the camera rays) for the coursework's scenes with the bubble r
 film (squares) and modelled as two concentric refracting spheres (circles), one colour per number
 of bubbles; log scale.  Bottom: the branching factor per level, rays(d)/rays(d − 1), with the
 golden ratio (the two-sphere tree's asymptote, dotted) and the 95 % profile-likelihood intervals
-of the coursework's b (its times fitted by a + c·b^d, :func:`bubbleoptics.study.fits.branching_interval`;
+of the coursework's b (its times fitted by a + c·b^d, :func:`study.fits.branching_interval`;
 shaded band spanning the three columns' intervals).  Quick mode draws the same figure (it only
 reads tables; the intervals skip the bootstrap).
 """
@@ -22,9 +22,9 @@ from matplotlib.lines import Line2D
 
 import paths
 import style
-from bubbleoptics.study import load_coursework_table
-from bubbleoptics.study.coursework import load_rays, rays_series
-from bubbleoptics.study.fits import branching_interval
+from study import load_coursework_table
+from study.coursework import load_rays, rays_series
+from study.fits import branching_interval
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 MODELS = {"thin film": ("s", "-"), "two spheres": ("o", "--")}  # marker, line style

@@ -12,7 +12,7 @@ rounding law eps / (2 cos^2 theta).  Exact zeros are drawn at 1e-18.
 (b) CIEDE2000 between the colour of a water film (normal incidence, D65) from N point-sampled
 bands and from 1 nm spectra, 1 um running median, against thickness; dashed verticals: the
 predicted onset of aliasing, where the fringe spacing at 400 nm, lambda^2 / (2 n d), equals the
-band width 420 nm / N; grey line: Delta E00 = 5 (``bubbleoptics.study.stability.ONSET_DE00``),
+band width 420 nm / N; grey line: Delta E00 = 5 (``study.stability.ONSET_DE00``),
 which the running median first exceeds at the measured onset.  Dotted: the band-limited method
 (bubbleoptics.film_color_bandlimited's XYZ, polynomial order 3), when the CSV has it.
 (c) The colours themselves (exposure making the brightest film white), 1 nm and N bands, and
@@ -27,8 +27,8 @@ import numpy as np
 import paths
 import style
 from bubbleoptics import XYZ_to_display_sRGB
-from bubbleoptics.study import read_columns
-from bubbleoptics.study.stability import ONSET_DE00, running_median
+from study import read_columns
+from study.stability import ONSET_DE00, running_median
 
 GRAZING = paths.DERIVED / "stability_grazing.csv"
 ALIASING = paths.DERIVED / "stability_aliasing.csv"
@@ -41,7 +41,7 @@ BANDLIMITED_STRIP = 8  # the band-limited strip, when the CSV has that method
 
 
 def read_table(path):
-    """Columns of a CSV as arrays (:func:`bubbleoptics.study.read_columns`); exits with a message
+    """Columns of a CSV as arrays (:func:`study.read_columns`); exits with a message
     if the file is missing."""
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/stability.py first")

@@ -8,11 +8,11 @@ One panel per scene: each setting of the study as a point, render time at 160 x 
 (compilation excluded, median of the timed runs, horizontal bar: their range) against its mean
 CIEDE2000 to the reference (1 nm bands, exhaustive tree, 16 samples per pixel) over the
 interior pixels (away from silhouettes and sub-pixel detail, by a mask that favours no sampling
-pattern: ``bubbleoptics.study.tradeoffs.interior_mask``), mean over seeds (vertical bar: +- one
+pattern: ``study.tradeoffs.interior_mask``), mean over seeds (vertical bar: +- one
 standard deviation over seeds; none for 1 spp, which samples the pixel centre whatever the
 seed).  Marker: the factor swept (spectral bands point-sampled or band-averaged, RGB
 transport, pruning threshold, samples per pixel, depth, the combined grid).  Solid line: the
-Pareto front of those points (``bubbleoptics.study.tradeoffs.scene_front``); grey dashed line: the
+Pareto front of those points (``study.tradeoffs.scene_front``); grey dashed line: the
 front of the same settings by the error over all pixels.  Star: the defaults the benchmark
 ran with; dotted vertical line: the reference's time; dash-dotted horizontal line: the
 reference's floor (a second reference with another seed, scored the same way: errors below it
@@ -26,7 +26,7 @@ import numpy as np
 
 import paths
 import style
-from bubbleoptics.study import pareto_front, tradeoffs
+from study import pareto_front, tradeoffs
 
 CSV = paths.DERIVED / "time_vs_error.csv"
 SCENES = {"builtin": "built-in scene", "bubbles": "six bubbles", "materials": "bubble and spheres",
@@ -45,7 +45,7 @@ GROUPS = {
 
 
 def read_rows(path):
-    """The benchmark's rows (:func:`bubbleoptics.study.tradeoffs.read_rows`, numbers as float);
+    """The benchmark's rows (:func:`study.tradeoffs.read_rows`, numbers as float);
     exits with a message if the file is missing."""
     if not path.exists():
         raise SystemExit(f"{path} is missing: run python benchmarks/time_vs_error.py first")

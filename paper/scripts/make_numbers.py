@@ -15,7 +15,7 @@ Sources, section by section:
 
 * ``optics``: ``data/derived/optics_speed.csv`` (``benchmarks/optics_speed.py``, ``make bench``).
 * ``coursework``: ``data/coursework_table_4_1.csv`` (the coursework's table 4.1) with the
-  growth-law fits of :mod:`bubbleoptics.study` (the same code as ``fig_depth_fits.py``: AICc ranking, relative weights,
+  growth-law fits of :mod:`study` (the same code as ``fig_depth_fits.py``: AICc ranking, relative weights,
   laws fitted to depths 1-7 and tested at depth 10).
 * ``ours``: ``data/derived/coursework_table.csv`` (``benchmarks/coursework_table.py``).
 * ``grazing`` and ``aliasing``: ``data/derived/stability_grazing.csv`` and
@@ -23,10 +23,10 @@ Sources, section by section:
   ``fig_stability.py``.
 * ``bandlimited``: ``data/derived/bandlimited_colour.csv`` (``benchmarks/bandlimited_colour.py``).
 * ``timeerror``: ``data/derived/time_vs_error.csv`` (``benchmarks/time_vs_error.py``), with the
-  selection, Pareto front and verdict of :mod:`bubbleoptics.study.tradeoffs` (as
+  selection, Pareto front and verdict of :mod:`study.tradeoffs` (as
   ``fig_time_vs_error.py`` and notebook 04).
 * ``peer``: ``data/derived/peer_mitsuba.csv`` (``benchmarks/peer_mitsuba.py``, optional Mitsuba),
-  times to equal error by :func:`bubbleoptics.study.time_at_error` (as that benchmark).
+  times to equal error by :func:`study.time_at_error` (as that benchmark).
 * ``physics``: computed here with :mod:`bubbleoptics` (the two-beam error, water's index): a
   few milliseconds, no data file.
 * ``documented``: tolerances the test suite enforces, read from the sentences of ``README.md``
@@ -58,7 +58,7 @@ import sys
 from pathlib import Path
 
 import paths  # the paper's one paths module, beside this script
-from bubbleoptics.study import read_commented_csv as _read_commented_csv
+from study import read_commented_csv as _read_commented_csv
 
 ROOT = paths.ROOT
 DATA = paths.DATA
@@ -136,7 +136,7 @@ def _sci_or_plain(x: float, n: int = 2) -> str:
 # inputs
 # ------------------------------------------------------------------------------------------
 def read_commented_csv(path):
-    """(header comments, rows as dicts) of a benchmark's CSV (:func:`bubbleoptics.study.read_commented_csv`);
+    """(header comments, rows as dicts) of a benchmark's CSV (:func:`study.read_commented_csv`);
     a file without rows is an error."""
     notes, rows = _read_commented_csv(path)
     if not rows:
@@ -246,7 +246,7 @@ WORDS = {1: "One", 2: "Two", 3: "Three"}
 
 
 def coursework(dirs):
-    from bubbleoptics import study
+    import study
 
     table = study.load_coursework_table(dirs["data"] / "coursework_table_4_1.csv")
     depth = table["depth"]
@@ -612,11 +612,11 @@ def _thick_film_range_um(path):
 
 def timeerror(dirs):
     """Run time against error (``benchmarks/time_vs_error.py``), with the selection and Pareto front
-    that ``fig_time_vs_error.py`` draws (:func:`bubbleoptics.study.tradeoffs.scene_front`), the
+    that ``fig_time_vs_error.py`` draws (:func:`study.tradeoffs.scene_front`), the
     reference's floor (the second reference), the spreads over seeds and timed runs."""
     import tracer
 
-    from bubbleoptics.study import tradeoffs
+    from study import tradeoffs
 
     path = dirs["derived"] / "time_vs_error.csv"
     notes, rows = tradeoffs.read_rows(path)
@@ -787,8 +787,8 @@ PEER_TARGET_SPP = 4  # the error ours reaches at this many samples per pixel is 
 def peer(dirs):
     """Mitsuba 3 against our tracer (``benchmarks/peer_mitsuba.py``): time to the error ours
     reaches at 4 spp, by the log-log interpolation the benchmark uses
-    (:func:`bubbleoptics.study.time_at_error`)."""
-    from bubbleoptics.study import time_at_error
+    (:func:`study.time_at_error`)."""
+    from study import time_at_error
 
     notes, rows = read_commented_csv(dirs["derived"] / "peer_mitsuba.csv")
     sweep = [r for r in rows if r["role"] == "sweep"]
@@ -936,11 +936,11 @@ DEFAULTS_MACROS = ["DefaultBands", "DefaultThreshold", "DefaultDepth", "DefaultM
 
 def constants(dirs):
     """Constants of the code that the text quotes: the spectral grid, the aliasing onset's
-    definition, and the lookup tables of :mod:`bubbleoptics.study.film_colour` (the Blender-like
+    definition, and the lookup tables of :mod:`study.film_colour` (the Blender-like
     table's size and spacing are those of Blender's source, as that module's docstring cites)."""
     import fig_bandlimited  # the running-maximum window its caption states
     from bubbleoptics import colorimetry, point_sampling_limit_nm
-    from bubbleoptics.study import film_colour, reference, stability
+    from study import film_colour, reference, stability
 
     grid = colorimetry.DEFAULT_WAVELENGTHS_NM
     return {

@@ -5,7 +5,7 @@ rays per level of the two bubble models.  A plug-in of ``make_numbers.py`` (``SE
   (``benchmarks/coursework_table.py``): the load average, the interquartile spread of the cells,
   the depth-1 cells that do identical work (pruned and exhaustive), the speed-up from 1 to 2 threads.
 * ``courseworkbranch``: ``data/coursework_table_4_1.csv``: 95 % intervals of the growth base b of
-  a + c·b^d fitted to the coursework's columns (:func:`bubbleoptics.study.fits.branching_interval`:
+  a + c·b^d fitted to the coursework's columns (:func:`study.fits.branching_interval`:
   covariance, profile likelihood, residual bootstrap).
 * ``courseworkrays``: ``data/derived/coursework_rays.csv`` (``benchmarks/coursework_rays.py``):
   rays per tree level and times of the thin-film and the two-sphere bubbles.
@@ -25,7 +25,7 @@ N_BOOT = 2000
 
 
 def _timing(dirs):
-    from bubbleoptics.study import load_timing
+    from study import load_timing
 
     return load_timing(dirs["derived"] / "coursework_table.csv")
 
@@ -38,7 +38,7 @@ def _load(notes, which):
 
 
 def spread(dirs):
-    from bubbleoptics.study.coursework import identical_work_check, timing_spread
+    from study.coursework import identical_work_check, timing_spread
 
     timing = _timing(dirs)
     out = {}
@@ -93,8 +93,8 @@ THREAD_MACROS = ["ThreadSpeedupMin", "ThreadSpeedupMax", "ThreadSpeedupLow", "Th
 
 
 def _coursework_intervals(dirs, n_boot=N_BOOT):
-    from bubbleoptics.study import load_coursework_table
-    from bubbleoptics.study.fits import branching_interval
+    from study import load_coursework_table
+    from study.fits import branching_interval
 
     table = load_coursework_table(dirs["data"] / "coursework_table_4_1.csv")
     return {nb: branching_interval(table["depth"], table["seconds"][nb], level=LEVEL, n_boot=n_boot)
@@ -125,8 +125,8 @@ BRANCH_MACROS = (["GoldenRatio", "BranchLevel", "BranchBoot", "CourseworkBranchM
 
 
 def rays(dirs):
-    from bubbleoptics.study.coursework import load_rays, rays_series
-    from bubbleoptics.study.fits import branching_interval
+    from study.coursework import load_rays, rays_series
+    from study.fits import branching_interval
 
     data = load_rays(dirs["derived"] / "coursework_rays.csv")
     notes = data["notes"]

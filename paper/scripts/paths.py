@@ -5,7 +5,7 @@ imports it as ``import paths``: Python puts a running script's own folder first 
 search path, so that works when a script is run as ``python paper/scripts/fig_X.py``.  The
 scripts read their inputs only from ``DATA``/``DERIVED`` and write only into ``FIGURES``; this
 is the one place that knows where the repository keeps its files (the analysis they call,
-:mod:`bubbleoptics.study`, takes paths).
+:mod:`study`, takes paths).
 
 * ``ROOT``: the repository; ``DATA``: ``data/`` (inputs with provenance, ``data/README.md``);
   ``DERIVED``: ``data/derived/`` (benchmark outputs; each file names the command that

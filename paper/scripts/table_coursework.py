@@ -22,8 +22,8 @@ import os
 import sys
 
 import paths
-from bubbleoptics.study import load_coursework_table, load_timing
-from bubbleoptics.study.coursework import timing_spread
+from study import load_coursework_table, load_timing
+from study.coursework import timing_spread
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 MODES = ("exhaustive", "pruned")

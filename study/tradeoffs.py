@@ -22,7 +22,7 @@ keyword arguments of ``tracer.render_with_stats``.
   all pixels and on the bubble pixels (masks that do not look at the references) it is not
   conditioned.
 * **Errors** (:func:`image_errors`): per-pixel CIEDE2000 on linear sRGB with negative values
-  clipped to 0 (:func:`bubbleoptics.study.delta_e00_images`), its mean and 95th percentile, and
+  clipped to 0 (:func:`study.delta_e00_images`), its mean and 95th percentile, and
   the RMSE in linear sRGB; non-finite pixels counted and set to 0.  The same on three sets of
   pixels: all, *interior* and *bubble*.  With several seeds, each metric is the mean over seeds
   and ``<metric>_sd`` its standard deviation.
@@ -476,7 +476,7 @@ _TEXT = ("scene", "factor", "value", "transport", "spectral_method", "resolved_m
 
 def read_rows(path):
     """``(notes, rows)`` of a file written by ``benchmarks/time_vs_error.py``
-    (:func:`bubbleoptics.study.read_commented_csv`); numbers as float (NaN when empty)."""
+    (:func:`study.read_commented_csv`); numbers as float (NaN when empty)."""
     notes, raw = read_commented_csv(path)
     rows = []
     for r in raw:
@@ -560,7 +560,7 @@ def scene_points(rows, scene, skip=("reference",)):
 
 
 def front(rows, scene, metric="interior_mean_de00"):
-    """Rows of *scene* on the Pareto front of (seconds, *metric*) (:func:`bubbleoptics.study.pareto_front`)."""
+    """Rows of *scene* on the Pareto front of (seconds, *metric*) (:func:`study.pareto_front`)."""
     pts = scene_points(rows, scene)
     idx = pareto_front([r["seconds"] for r in pts], [r[metric] for r in pts])
     return [pts[i] for i in idx]

@@ -1,8 +1,8 @@
-"""bubbleoptics.study: the analysis behind the benchmarks, notebooks and paper.
+"""study: the analysis behind the benchmarks, notebooks and paper.
 
 One importable place for what the repository's scripts share, so that a number in the paper and
 the same number in a notebook come from one piece of code (the model: scikit-image's
-``skimage.metrics``).  Nothing here renders or imports :mod:`tracer`, and nothing finds the
+``skimage.metrics``).  It lives beside the two packages and may use both; nothing finds the
 repository's files by itself: every loader takes its path.
 
 Re-exported here (the everyday names):
@@ -19,7 +19,7 @@ Re-exported here (the everyday names):
 * :mod:`.metrics` -- the one CIEDE2000 (colour-science's): :func:`delta_e00_XYZ`,
   :func:`delta_e00` (linear sRGB images), :func:`delta_e00_images` (renders, negatives clipped).
 
-Imported by name (``from bubbleoptics.study import stability``):
+Imported by name (``from study import stability``):
 
 * :mod:`.stability` -- grazing incidence and thick-film aliasing (``benchmarks/stability.py``);
 * :mod:`.tradeoffs` -- run time against error of the tracer's settings (``benchmarks/time_vs_error.py``);
@@ -30,7 +30,7 @@ Imported by name (``from bubbleoptics.study import stability``):
 * :mod:`.reference` -- slow, literal, independent references (mpmath at 40 digits, tmm); needs
   the ``test`` extra.
 
-``import bubbleoptics`` does not import this package; this package imports neither scipy nor
+Neither ``bubbleoptics`` nor ``tracer`` imports this package, which is not part of the wheel (it is imported from the checkout); it imports neither scipy nor
 matplotlib nor colour-science at import (each function imports what it uses).
 """
 

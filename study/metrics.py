@@ -6,7 +6,7 @@ by ``colour.XYZ_to_Lab`` and CIEDE2000 by ``colour.delta_E(..., method="CIE 2000
 colour-science (CIE 142-2001; Sharma, Wu & Dalal 2005, Color Res. Appl. 30, 21).  About 1-2 is a
 just-noticeable difference side by side.
 
-colour-science is imported inside the functions (``import bubbleoptics.study`` stays light).
+colour-science is imported inside the functions (``import study`` stays light).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ What this module is
 Two kinds of reference, against which the tests (``tests/test_reference_*.py``) and the
 stress benchmark (``benchmarks/stability.py``, notebook 05) check the package's fast kernels.
 It needs the ``test`` extra (``pip install 'bubbleoptics[test]'``: ``mpmath``, ``tmm``); nothing
-imports it unless asked (``from bubbleoptics.study import reference``).
+imports it unless asked (``from study import reference``).
 
 1. ``*_mp`` functions: the textbook formulas evaluated in arbitrary precision with
    ``mpmath`` (default 40 significant digits).  Every float64 input is first converted
@@ -73,7 +73,7 @@ import math
 try:
     import mpmath
 except ImportError as exc:  # the test extra is not installed
-    raise ImportError("bubbleoptics.study.reference needs mpmath (and tmm for the tmm_* functions): "
+    raise ImportError("study.reference needs mpmath (and tmm for the tmm_* functions): "
                       "pip install 'bubbleoptics[test]'") from exc
 
 __all__ = [

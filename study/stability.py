@@ -11,7 +11,7 @@ mode) and of ``paper/scripts/fig_stability.py``.
    * ``tmm.coh_tmm`` (Byrnes; angles through ``arcsin`` and ``cos``),
    * :func:`naive_film_rt`, the textbook float64 Airy sum with ``cos = sqrt(1 - sin^2)``,
 
-   against ``film_rt_mp`` of :mod:`bubbleoptics.study.reference` (the textbook formulas at 40
+   against ``film_rt_mp`` of :mod:`study.reference` (the textbook formulas at 40
    digits on the exact float64 inputs).  Errors are formed in mpmath, so they are exact to the
    digits shown.
 
@@ -19,7 +19,7 @@ mode) and of ``paper/scripts/fig_stability.py``.
    0-20 um, at normal incidence, from N = 4, 8, 16, 32, 81 band centres (point samples of R
    weighted by ``band_spectral_weights(N)``), against the 1 nm reference (the computation inside
    ``bubbleoptics.film_color``), as CIE XYZ and CIEDE2000 after a fixed exposure
-   (:func:`bubbleoptics.study.delta_e00_XYZ`).  Aliasing sets in when a wavelength with visual
+   (:func:`study.delta_e00_XYZ`).  Aliasing sets in when a wavelength with visual
    weight sees fringes spaced by less than a band, lambda^2 / (2 n d cos theta_t) < 420 nm / N;
    since the spacing grows as lambda^2, the blue end of the spectrum (~400 nm) aliases first.
    If ``bubbleoptics.film_color_bandlimited`` exists it is included as one more method (its XYZ,
@@ -153,7 +153,7 @@ def grazing_angles(n_u):
 def grazing_table(n_u=81, films=None, polarizations=POLARIZATIONS, reference=None):
     """Rows (dicts) of the grazing-incidence test: one per film, polarization, angle and method.
 
-    *reference*: the module of references (default :mod:`bubbleoptics.study.reference`, which
+    *reference*: the module of references (default :mod:`study.reference`, which
     needs ``mpmath`` and ``tmm``: the ``test`` extra); ``film_rt_mp`` is the truth, ``tmm_rt``
     one of the methods compared.
 

@@ -15,7 +15,7 @@ effective branching factor *b* per level and the work up to depth *d* is a geome
 *c·bᵈ*: the tree).  A quartic has five free coefficients and no such structure: on ten points it
 interpolates, but it does not extrapolate (see :func:`holdout_errors`).
 
-scipy is imported inside the exponential fits only (``import bubbleoptics.study`` stays light).
+scipy is imported inside the exponential fits only (``import study`` stays light).
 """
 
 from __future__ import annotations
