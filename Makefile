@@ -47,6 +47,7 @@ chromium:
 
 ## make bench: the speed benchmarks (not part of the tests; results go to data/derived/), with
 ## Mitsuba 3 as the peer on a glass sphere (installed here, the `mitsuba` extra).
+bench: export NUMBA_THREADING_LAYER ?= workqueue
 bench: $(STAMP)
 	$(PY) -m pip install --quiet -e '.[mitsuba]'
 	$(PY) benchmarks/optics_speed.py

@@ -7,7 +7,7 @@ In a uniform environment every escaping ray sees the same radiance, so a lossles
 render as the environment itself: a pixel is the environment times the sum of its ray tree's
 leaf throughputs, which is 1 when every split conserves energy (R + T = 1 for a free film,
 F + (1 - F) = 1 for clear glass) and every cut branch is closed with what it still carries
-(``tracer.integrator``; the coursework's estimator dropped them, and deep bubbles went dark).
+(``tracer.kernels.integrator``; the coursework's estimator dropped them, and deep bubbles went dark).
 Each case is rendered in a uniform white environment and compared with the environment alone
 rendered with the same channels (as ``tests/test_energy.py`` does); reported are the largest and
 the mean absolute deviation over pixels and channels (linear sRGB, environment 1), the largest
@@ -113,13 +113,13 @@ def absorbing_row(size):
                   camera=Camera(position=(0.0, 0.0, 3.0), look_at=(0.0, 0.0, 0.0), fov_deg=45.0),
                   environment=Environment(kind="constant", color=WHITE), ambient=(0.0, 0.0, 0.0))
     img, stats = tracer.render_with_stats(scene, width=size, height=size, depth=DEPTH, threshold=0.0, progress=False)
-    packed = tracer.pack.pack_scene(scene)
+    packed = tracer.prepare.pack.pack_scene(scene)
     cam = packed.camera[0]
     o = np.asarray(cam["origin"], float)
     cosines = np.zeros((size, size))
     for y in range(size):  # the ray-sphere quadratic of each pixel-centre ray (unit sphere at the origin)
         for x in range(size):
-            d = np.array(tracer.sampling.camera_ray(cam, x + 0.5, y + 0.5, size, size))
+            d = np.array(tracer.kernels.sampling.camera_ray(cam, x + 0.5, y + 0.5, size, size))
             b = o @ d
             disc = b * b - (o @ o - 1.0)
             if disc > 0:

@@ -15,7 +15,7 @@ time (10 s of film time = 2100 steps of 1/210 s, the largest step <= 5 ms that d
 frame, 7 a frame, 300 saved frames; keeping the frames, h copied to nm, is timed with it in
 ``movie_sim_seconds``).  ``movie_render_seconds``: the tracer's cost of those 300 frames at
 :data:`RENDER` (480 x 480, the render defaults: depth 10, 1 spp, 16 bands) on all cores, a
-bubble of the simulated film under the sky seen from a little above (``tracer.simulated``),
+bubble of the simulated film under the sky seen from a little above (``tracer.scene.simulated``),
 estimated as 300 x the median of :data:`RENDER_SAMPLES` frames spread over the movie (each
 rendered once, after one untimed frame; ``movie_render_frame_seconds_min``/``_max`` give
 their spread); ``movie_seconds`` is simulation plus rendering.

@@ -161,7 +161,7 @@ def black_film(grid, dt):
 
 def render_frames(series, t_black, size):
     import tracer
-    from tracer.output import display_codes
+    from tracer.rendering.output import display_codes
     from tracer.scene import Bubble, Camera, Environment, FilmProfile, Scene
 
     times = [min(max(0.0, t_black + dt), float(series.times[-1])) for dt in FRAME_OFFSETS]

@@ -21,8 +21,8 @@ builds a BVH big enough for threads, so that numba's kernels are loaded from its
 of this timed: a process pays it once, whatever the mesh), then times
 
 * ``load``: ``tracer.load_scene`` of the TOML file (trimesh reads the PLY, zero-area check);
-* ``pack``: ``tracer.pack.pack_scene`` inside the render (orientation, vertex normals, BVH),
-  of which ``bvh``: ``tracer.bvh.build_bvh``;
+* ``pack``: ``tracer.prepare.pack.pack_scene`` inside the render (orientation, vertex normals, BVH),
+  of which ``bvh``: ``tracer.prepare.bvh.build_bvh``;
 * ``render``: the render itself at 960x960, default settings (depth 10, 1 spp, threshold 1e-3),
   2 threads (``RenderStats.render_seconds``);
 * ``total``: load plus the whole ``render_with_stats`` call (packing and the render);
@@ -128,8 +128,8 @@ def child(toml, size, threads):
     import numba
 
     import tracer
-    import tracer.bvh
-    import tracer.pack as pack
+    import tracer.prepare.bvh
+    import tracer.prepare.pack as pack
 
     numba.set_num_threads(threads)
     import trimesh  # (imported by the first mesh file a process reads: 0.3-0.5 s, not timed)
@@ -143,8 +143,8 @@ def child(toml, size, threads):
         warm.write_text(SCENE.format(shape="warm_up", faces=80, path=warm.with_suffix(".ply").name), encoding="utf-8")
     tracer.render(tracer.load_scene(warm), width=8, height=8, progress=False)
     rng = np.random.default_rng(0)
-    tracer.bvh.build_bvh(rng.uniform(-1, 1, (2 * tracer.bvh.PARALLEL_MIN + 1, 1, 3))
-                         + 0.01 * rng.normal(size=(2 * tracer.bvh.PARALLEL_MIN + 1, 3, 3)))
+    tracer.prepare.bvh.build_bvh(rng.uniform(-1, 1, (2 * tracer.prepare.bvh.PARALLEL_MIN + 1, 1, 3))
+                         + 0.01 * rng.normal(size=(2 * tracer.prepare.bvh.PARALLEL_MIN + 1, 3, 3)))
 
     timers = {"pack": 0.0, "bvh": 0.0}
 

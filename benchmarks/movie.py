@@ -9,14 +9,14 @@ from an empty frame cache (a new temporary folder), so every frame is rendered.
 
 * ``serial``: :func:`tracer.render_movie` in this process (numba's threads: all cores);
 * ``dask``: the same on a running :class:`distributed.LocalCluster` of 2 one-thread workers
-  (:func:`tracer.cluster.local_cluster`), started once before the repeats (its start-up and the
+  (:func:`tracer.rendering.dask.local_cluster`), started once before the repeats (its start-up and the
   workers' first frame, which loads the kernels from numba's cache, are timed on their own).
   Dask's task stream gives each frame's compute time on its worker; the overhead a frame is
   ``(wall time x workers - sum of compute times) / frames``: scheduling, transfer of the
   scene and of the PNG, the cache write, and any worker left idle;
 * ``tiles``: one large image (1920x1080, 4 spp; 192x108 with ``--quick``) rendered here (numba's
   threads) and as tiles of rows on the same cluster (``tracer.render(..., client=...)``,
-  :func:`tracer.cluster.render_tiles`), interleaved, the two images checked equal bit for bit;
+  :func:`tracer.rendering.dask.render_tiles`), interleaved, the two images checked equal bit for bit;
 * ``encode``: the assembly of the .mp4 from the cached PNGs (reading them, ffmpeg's H.264),
   part of each run above, reported as its share of the wall time.
 
@@ -81,7 +81,7 @@ def main(argv=None):
     import tracer
     from distributed import Client
 
-    from tracer.cluster import local_cluster
+    from tracer.rendering.dask import local_cluster
 
     args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 3, 1, argv, size=480,
                                                     quick_size=96)
@@ -174,9 +174,9 @@ def main(argv=None):
         client.close()
         cluster.close()
 
-    # the model: a 4K, 64-spp, one-minute movie (tracer.cluster.model_movie_seconds)
-    from tracer.cluster import MODEL_MOVIE as MODEL
-    from tracer.cluster import model_movie_seconds
+    # the model: a 4K, 64-spp, one-minute movie (study.movie_cost.model_movie_seconds)
+    from study.movie_cost import MODEL_MOVIE as MODEL
+    from study.movie_cost import model_movie_seconds
 
     encode_per_frame = statistics.median(enc) / n_frames  # of the measured movie
     for w in (8, 64, 512):

@@ -123,7 +123,7 @@ def environment_radiance(d, up=(0.0, 1.0, 0.0)):
 
 def environment_image(height=ENV_SHAPE[0], width=ENV_SHAPE[1]):
     """The environment as an equirectangular float32 (height, width, 3) image, row 0 at +y
-    (``tracer.environment``'s convention): row i covers polar angles [i, i + 1) pi / height and
+    (``tracer.kernels.environment``'s convention): row i covers polar angles [i, i + 1) pi / height and
     is sampled at its centre.  Every column is the same (elevation only)."""
     theta = (np.arange(height) + 0.5) / height * math.pi
     d = np.stack([np.sin(theta), np.cos(theta), np.zeros_like(theta)], axis=-1)
@@ -293,7 +293,7 @@ def model_image(model, thickness_nm, n_film=FILM_N, size=SIZE, depth=DEPTH, band
     D65 weights, the Mallett-Yuksel basis for the environment), ``"rgb"`` (exact R per channel
     through :func:`rgb_cmfs`) or ``"cycles"`` (``"rgb"`` with the m = 3 cut and the clamp).
     Outside the bubble: the environment."""
-    from tracer.pack import channel_setup
+    from tracer.prepare.pack import channel_setup
 
     hit, cos, refl, outs = sphere_paths(size, depth=depth)
     cam, _ = camera_rays(size)

@@ -145,8 +145,8 @@ def environment_radiance(d):
 def environment_image(height=ENV_SHAPE[0], width=ENV_SHAPE[1]):
     """The environment as an equirectangular float32 (height, width, 3) image in *our* convention.
 
-    ``tracer.environment`` with up = +y uses the frame x' = (0, 0, -1), z' = (1, 0, 0)
-    (``tracer.pack``), so texel (i, j) covers polar angle theta in [i, i + 1) pi / height and
+    ``tracer.kernels.environment`` with up = +y uses the frame x' = (0, 0, -1), z' = (1, 0, 0)
+    (``tracer.prepare.pack``), so texel (i, j) covers polar angle theta in [i, i + 1) pi / height and
     phi = atan2(-d_z, d_x) + pi in [j, j + 1) 2 pi / width; it is sampled at the centres.
     """
     theta = (np.arange(height) + 0.5) / height * math.pi
@@ -185,7 +185,7 @@ def mitsuba_environment(mi, image, folder, orientation="matched"):
     """Write the image for Mitsuba as EXR; return the ``envmap`` dict.
 
     Both renderers map a direction d to u = atan2(d_x, -d_z) / 2 pi (mod 1), v = acos(d_y) / pi
-    (row 0 at +y): ours adopted Mitsuba's ``envmap`` convention (tracer.environment;
+    (row 0 at +y): ours adopted Mitsuba's ``envmap`` convention (tracer.kernels.environment;
     tests/test_environment.py renders one environment in both), so the matched orientation is
     the image as it is, with no rotation.  Both put texel centres at (j + 1/2) / width in u; in
     v Mitsuba places row i at i / (height - 1) (ours: (i + 1/2) / height), at most half a texel

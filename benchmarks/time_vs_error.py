@@ -120,8 +120,8 @@ def default_settings():
 
 
 def resolved_method(scene, s):
-    """The film method setting *s* renders *scene* with (``tracer.pack.resolve_spectral_method``)."""
-    from tracer.pack import resolve_spectral_method
+    """The film method setting *s* renders *scene* with (``tracer.prepare.pack.resolve_spectral_method``)."""
+    from tracer.prepare.pack import resolve_spectral_method
 
     if not s["spectral"]:
         return ""
@@ -130,7 +130,7 @@ def resolved_method(scene, s):
 
 def seed_independent(scene, s):
     """Whether setting *s* renders *scene* the same for every seed: one sample per pixel (the pixel
-    centre, ``tracer.sampling.stratified_offset``) and no light sampled at random (a light of
+    centre, ``tracer.kernels.sampling.stratified_offset``) and no light sampled at random (a light of
     radius > 0 is a sphere whose samples hash the seed); the rest of the tracer is deterministic."""
     return int(s["spp"]) == 1 and all(float(getattr(light, "radius", 0.0)) == 0.0 for light in scene.lights)
 
@@ -138,7 +138,7 @@ def seed_independent(scene, s):
 def geometry(scene, size):
     """``(hits, is_bubble)`` of *scene* at *size* x *size*: ``tradeoffs.pixel_hits`` from the packed
     scene's camera and spheres, and which spheres are bubbles (surface kind 0)."""
-    from tracer.pack import pack_scene
+    from tracer.prepare.pack import pack_scene
 
     packed = pack_scene(scene, spectral_samples=16)
     if packed.tris.shape[0]:

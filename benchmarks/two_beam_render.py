@@ -80,7 +80,7 @@ def with_model(scene, model):
 
 def bubble_pixels(scene, size):
     """Boolean (size, size): pixels all of whose sub-pixel rays meet a bubble first."""
-    from tracer.pack import pack_scene
+    from tracer.prepare.pack import pack_scene
 
     packed = pack_scene(scene, spectral_samples=16)
     cam = packed.camera[0]
@@ -93,7 +93,7 @@ def bubble_pixels(scene, size):
 def measure(name, size, settings, variant=""):
     """One scene: (CSV row, {array name: array}) of both renders and their ΔE00."""
     import tracer
-    from tracer.output import display_codes
+    from tracer.rendering.output import display_codes
 
     scene = load(name)
     images, seconds = {}, {}

@@ -5,19 +5,11 @@ index ``n + ik`` with ``k >= 0``.  Polarization is ``"s"``, ``"p"`` or ``"unpola
 
 The physics lives once, as numba kernels in :mod:`bubbleoptics.kernels`; the functions below
 broadcast over them like NumPy ufuncs, and the ray tracer (:mod:`tracer`) calls the same kernels.
+
+Importing it changes no process-wide setting: an application that runs parallel kernels on a
+shared machine may call :func:`bubbleoptics.resources.prefer_workqueue_threads` (the ``tracer``
+command does).
 """
-
-import os as _os
-
-import numba as _numba
-
-# numba's OpenMP threading layer busy-waits at barriers: on a shared or oversubscribed machine
-# (CI runners, VMs with a busy neighbour) that turned a 3 ms parallel sweep into 40 ms, while
-# numba's own "workqueue" layer stayed at 3.4 ms (measured here, see the optics issue's note).
-# Prefer it unless the user chose a layer; this only takes effect if no parallel numba code
-# has run yet in the process.
-if "NUMBA_THREADING_LAYER" not in _os.environ:
-    _numba.config.THREADING_LAYER = "workqueue"
 
 from .bandlimited import film_color_bandlimited, film_reflectance_band, point_sampling_limit_nm
 from .colorimetry import (

@@ -68,6 +68,7 @@ import math
 
 import numpy as np
 from numba import njit, prange
+from .jit import JIT, JIT_INLINE, JIT_PARALLEL
 
 __all__ = [
     "COS_MIN",
@@ -128,12 +129,6 @@ PATH_REAL = 0.0  # lossless media, every wave propagating: real arithmetic
 PATH_COMPLEX = 1.0  # an absorbing medium or an evanescent film
 PATH_TOTAL_REFLECTION = 2.0  # lossless media, evanescent inside medium: R = 1, T = 0
 
-# error_model="numpy": a float division never raises (our denominators are positive by
-# construction, and the property tests check no NaN appears); without it numba guards every
-# division with a branch, which stops LLVM from vectorizing the thickness loop (8x slower).
-_JIT = dict(cache=True, error_model="numpy")
-_JIT_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
-_JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
 
 _TWO_PI = 2.0 * math.pi
 _Q_SMALL = 1e-60  # below this, sin(beta)/q1 is evaluated as a sinc (q1 -> 0 at the critical angle)
@@ -142,13 +137,13 @@ _Q_SMALL = 1e-60  # below this, sin(beta)/q1 is evaluated as a sinc (q1 -> 0 at 
 # --------------------------------------------------------------------------------------------
 # Building blocks
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT)
+@njit(**JIT)
 def _q_squared(n, n0, q0):
     """:math:`q^2 = (n-n_0)(n+n_0) + q_0^2`; real for real *n*, complex for complex *n*."""
     return (n - n0) * (n + n0) + q0 * q0
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def normal_wavevector_nb(n, n0, q0):
     """Normal wavevector component :math:`q = n\\cos\\theta` in a medium of index *n*.
 
@@ -163,7 +158,7 @@ def normal_wavevector_nb(n, n0, q0):
     return cmath.sqrt(complex(z.real, max(z.imag, 0.0)))
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _eta_difference(ni, nj, qi, qj, s2, pol):
     """:math:`\\eta_i - \\eta_j` without cancellation (s: q; p: q/n^2).
 
@@ -186,7 +181,7 @@ def _eta_difference(ni, nj, qi, qj, s2, pol):
     return qi / ni2 - qj / nj2
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _film_terms(n0, n1, n2, q0, q1, q2, s2, pol):
     """Admittances and the four Airy-form factors for one polarization.
 
@@ -209,7 +204,7 @@ def _film_terms(n0, n1, n2, q0, q1, q2, s2, pol):
     return e0, e2, a, b, e0 + e2, e0 * e2 + e1 * e1
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _sinc(x):
     """sin(x)/x, exact to rounding for all real x (series below 1e-4)."""
     if abs(x) < 1e-4:
@@ -233,7 +228,7 @@ _S3, _S5, _S7, _S9 = -1 / 6, 1 / 120, -1 / 5040, 1 / 362880
 _S11, _S13, _S15, _S17 = -1 / 39916800, 1 / 6227020800, -1 / 1307674368000, 1 / 355687428096000
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def sin2_cos2_nb(beta):
     """(sin²β, cos²β) for 0 <= β <= :data:`BETA_POLY_MAX`, without branches.
 
@@ -256,7 +251,7 @@ def sin2_cos2_nb(beta):
     return odd * c2 + even * s2, odd * s2 + even * c2
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _phase_terms(kq, g, d):
     """Terms of :math:`e = \\exp(2i\\beta)`, :math:`\\beta = k_q d` complex with Im >= 0.
 
@@ -287,7 +282,7 @@ def _phase_terms(kq, g, d):
 # --------------------------------------------------------------------------------------------
 # Single interface
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT)
+@njit(**JIT)
 def fresnel_interface_nb(n1, n2, cos1):
     """Fresnel amplitude coefficients of one interface (Born & Wolf §1.5.2; tmm conventions).
 
@@ -333,7 +328,7 @@ def fresnel_interface_nb(n1, n2, cos1):
 # --------------------------------------------------------------------------------------------
 # Single film (the Airy sum), in two stages: setup per (lambda, theta, media), evaluate per d
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT)
+@njit(**JIT)
 def film_setup_nb(wavelength, cos0, n0, n1, n2):
     """Stage 1 of the exact single-film Airy sum: everything that does not depend on *d*.
 
@@ -414,7 +409,7 @@ def film_setup_nb(wavelength, cos0, n0, n1, n2):
     )
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _real_rt(cos2, sig2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol):
     """Lossless-path (R, T) from cos²β and σ² = sin²β/q1² (module docstring, real form).
 
@@ -436,7 +431,7 @@ def _real_rt(cos2, sig2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol):
     return R, T
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _real_rt_c(c, cos2, sig2, pol):
     S = FILM_S
     P = FILM_P
@@ -444,7 +439,7 @@ def _real_rt_c(c, cos2, sig2, pol):
                     c[P].real, c[P + 1].real, c[P + 2].real, c[P + 3].real, c[P + 4].real, pol)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def film_evaluate_nb(c, d, pol):
     """Stage 2 of the Airy sum: (R, T) of the film of thickness *d* nm for polarization *pol*.
 
@@ -493,7 +488,7 @@ def film_evaluate_nb(c, d, pol):
     return R, T
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def film_rt_nb(wavelength, thickness, cos0, n0, n1, n2, pol):
     """Exact (R, T) of one film: :func:`film_evaluate_nb` of :func:`film_setup_nb`.
 
@@ -505,7 +500,7 @@ def film_rt_nb(wavelength, thickness, cos0, n0, n1, n2, pol):
 # --------------------------------------------------------------------------------------------
 # The coursework's two-beam model (coursework eqs. 1.1-1.3)
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT)
+@njit(**JIT)
 def two_beam_r_nb(wavelength, thickness, cos0, n0, n1, pol):
     """The coursework's two-beam reflectance, normalised by the first interface's reflectance.
 
@@ -536,7 +531,7 @@ def two_beam_r_nb(wavelength, thickness, cos0, n0, n1, pol):
 # --------------------------------------------------------------------------------------------
 # Multilayer stack: scaled characteristic matrices
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT)
+@njit(**JIT)
 def multilayer_rt_nb(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
     """(R, T) of a stack of films by characteristic (transfer) matrices.
 
@@ -610,7 +605,7 @@ _DM2007_B = (5.684027565e-1, 1.726177391e-1, 2.086189578e-2, 1.130748688e-1)
 _DM2007_C = (5.101829712e-3, 1.821153936e-2, 2.620722293e-2, 1.069792721e1)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def water_index_daimon2007_nb(wavelength):
     """Refractive index of water at 20 degC, Daimon & Masumura (2007), 182-1129 nm.
 
@@ -627,7 +622,7 @@ def water_index_daimon2007_nb(wavelength):
 # --------------------------------------------------------------------------------------------
 # Array loops used by the NumPy API (parallel over elements)
 # --------------------------------------------------------------------------------------------
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def film_setup_array(wavelength, cos0, n0, n1, n2):
     """:func:`film_setup_nb` over 1-D arrays of equal length; returns (N, 14) complex."""
     n = wavelength.shape[0]
@@ -642,7 +637,7 @@ def film_setup_array(wavelength, cos0, n0, n1, n2):
 _BLOCK = 512
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _lossless_row(c, d, pol, want_r, want_t, out_r, out_t):
     """Branch-free loop over thicknesses *d* (1-D) for one lossless row *c* of coefficients.
 
@@ -671,7 +666,7 @@ def _lossless_row(c, d, pol, want_r, want_t, out_r, out_t):
             out_t[j] = _real_rt(cs2, sn2 * iq2, as_, bs, cs, ds, ts, ap, bp, cp, dp, tp, pol)[1]
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
     """Evaluate the film for every (outer i, inner j): coefficients ``coef[i]``, thickness
     ``d[i, j]`` (or ``d[0, j]`` when *d* has one row).  Work is split in blocks of the inner
@@ -707,7 +702,7 @@ def film_evaluate_grid(coef, d, pol, want_r, want_t, out_r, out_t):
                     out_t[i, j] = t
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def two_beam_array(wavelength, thickness, cos0, n0, n1, pol):
     """:func:`two_beam_r_nb` over 1-D arrays of equal length."""
     out = np.empty(wavelength.shape[0])
@@ -716,7 +711,7 @@ def two_beam_array(wavelength, thickness, cos0, n0, n1, pol):
     return out
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def fresnel_array(n1, n2, cos1):
     """:func:`fresnel_interface_nb` over 1-D arrays; returns (4, N) complex and (4, N) float."""
     n = n1.shape[0]
@@ -735,7 +730,7 @@ def fresnel_array(n1, n2, cos1):
     return amp, power
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def multilayer_array(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
     """:func:`multilayer_rt_nb` over rows: *n_layers*, *d_layers* are (N, L); returns R, T (N,)."""
     n = wavelength.shape[0]
@@ -748,7 +743,7 @@ def multilayer_array(wavelength, n_layers, d_layers, cos0, n0, n_inside, pol):
     return out_r, out_t
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def water_index_array(wavelength):
     """:func:`water_index_daimon2007_nb` over a 1-D array."""
     out = np.empty(wavelength.shape[0])
@@ -770,7 +765,7 @@ SRGB_LINEAR_BELOW = 0.0031308  # linear-light value where the curve turns from l
 SRGB_ENCODED_BELOW = SRGB_LINEAR_BELOW * 12.92  # the same point encoded (0.040449936)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def srgb_encode_nb(x):
     """Linear light *x* to display sRGB: 12.92 x (x <= 0.0031308), else 1.055 x^(1/2.4) - 0.055."""
     if x <= SRGB_LINEAR_BELOW:
@@ -778,7 +773,7 @@ def srgb_encode_nb(x):
     return 1.055 * x ** (1 / 2.4) - 0.055
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def srgb_decode_nb(v):
     """Display sRGB *v* to linear light: v / 12.92 (v <= 0.0031308 * 12.92), else ((v + 0.055)/1.055)^2.4."""
     if v <= SRGB_ENCODED_BELOW:
@@ -786,14 +781,14 @@ def srgb_decode_nb(v):
     return ((v + 0.055) / 1.055) ** 2.4
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def srgb_encode_array(x, out):
     """:func:`srgb_encode_nb` over 1-D arrays (NaN stays NaN)."""
     for i in prange(x.shape[0]):
         out[i] = srgb_encode_nb(x[i]) if x[i] == x[i] else x[i]
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def srgb_encode_quantized_array(x, levels, out):
     """Linear light *x* (1-D) to integer sRGB codes 0..*levels* in *out* (an unsigned integer
     array): NaN as 0, clipped to [0, 1], :func:`srgb_encode_nb`, times *levels*, rounded half to
@@ -807,7 +802,7 @@ def srgb_encode_quantized_array(x, levels, out):
         out[i] = np.rint(srgb_encode_nb(v) * levels)
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def srgb_decode_array(v, out):
     """:func:`srgb_decode_nb` over 1-D arrays (NaN stays NaN)."""
     for i in prange(v.shape[0]):
@@ -878,7 +873,7 @@ _RESYNC = 32
 BAND_ORDER_MAX = 16
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _sph_bessel_cs(z, sz, cz, order, out):
     """Spherical Bessel functions j_0(z) .. j_order(z) into out[0 .. order], z >= 0.
 
@@ -942,13 +937,13 @@ def _sph_bessel_cs(z, sz, cz, order, out):
         out[ell] *= scale
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _sph_bessel(z, order, out):
     """Spherical Bessel functions j_0(z) .. j_order(z) into out[0 .. order] (:func:`_sph_bessel_cs`)."""
     _sph_bessel_cs(z, math.sin(z), math.cos(z), order, out)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _band_trig(beta1, two_h):
     """Trigonometry of a band, shared by both polarizations and by the series.
 
@@ -964,7 +959,7 @@ def _band_trig(beta1, two_h):
     return m * math.pi, sign, math.sin(delta), math.cos(delta), math.sin(sigma), math.cos(sigma)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _band_inverse_average(C, Dp, two_h, m_pi, s_delta, c_delta, c_sigma):
     """(1/2h) ∫ dβ/(C cos²β + D' sin²β) over [β1, β1 + 2h], 2h > 0: closed form (1) above.
 
@@ -978,7 +973,7 @@ def _band_inverse_average(C, Dp, two_h, m_pi, s_delta, c_delta, c_sigma):
     return (m_pi + ang) / (two_h * sq)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _band_phase(kq_a, kq_b, d):
     """(beta_1, 2h, sign): start phase, sweep and orientation of the band (see above)."""
     ba = kq_a * d
@@ -988,7 +983,7 @@ def _band_phase(kq_a, kq_b, d):
     return ba, bb - ba, -1.0
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def film_band_average_nb(c, kq_a, kq_b, d, pol):
     """(R̄, T̄): the film averaged uniformly in phase over one wavelength band, closed form.
 
@@ -1072,7 +1067,7 @@ def film_band_average_nb(c, kq_a, kq_b, d, pol):
 # sin^2) is the closed form (1) of the band section with C = 1, D' = 1 + F, t = 1.
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _free_film_coefficients(wavelength, cos0, n0, n1):
     """(kq, F_s, F_p, applies) of :func:`free_film_setup_nb`, branch-free (vectorizes in a loop)."""
     c0 = max(cos0, COS_MIN)
@@ -1089,7 +1084,7 @@ def _free_film_coefficients(wavelength, cos0, n0, n1):
     return (kq if applies else -1.0), (Fs if applies else 0.0), (Fs * g * g if applies else 0.0), applies
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def free_film_setup_nb(wavelength, cos0, n0, n1):
     """Set-up of a free-standing lossless film: ``(kq, F_s, F_p)``, or ``(-1, 0, 0)``.
 
@@ -1110,7 +1105,7 @@ def free_film_setup_nb(wavelength, cos0, n0, n1):
     return kq, Fs, Fp
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _free_film_from_sin2(Fs, Fp, sn2, pol):
     """(R, T) of the free-standing film from its coefficients of finesse and sin²β."""
     R = 0.0
@@ -1131,7 +1126,7 @@ def _free_film_from_sin2(Fs, Fp, sn2, pol):
     return R, T
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def free_film_evaluate_nb(c, d, pol):
     """(R, T) of the free-standing lossless film of thickness *d* nm, *c* from
     :func:`free_film_setup_nb` (which must apply: kq >= 0); *pol* 0 (s), 1 (p), 2 (unpolarized).
@@ -1145,7 +1140,7 @@ def free_film_evaluate_nb(c, d, pol):
     return _free_film_from_sin2(c[1], c[2], sn2, pol)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def free_film_setup_bands_nb(wavelength, n1, cos0, n0, kq, Fs, Fp):
     """:func:`free_film_setup_nb` for every band at once: *wavelength* and *n1* (C,) in, *kq*,
     *Fs*, *Fp* (C,) out; returns False if the closed form does not apply to some band.  A
@@ -1160,7 +1155,7 @@ def free_film_setup_bands_nb(wavelength, n1, cos0, n0, kq, Fs, Fp):
     return misses == 0
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def free_film_evaluate_bands_nb(kq, Fs, Fp, d, pol, R, T):
     """:func:`free_film_evaluate_nb` for every band at once (coefficients from
     :func:`free_film_setup_bands_nb`), into *R*, *T* (C,).  Vectorizes when every phase is within
@@ -1182,7 +1177,7 @@ def free_film_evaluate_bands_nb(kq, Fs, Fp, d, pol, R, T):
             T[c] = t
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def free_film_band_average_nb(c, kq_a, kq_b, d, pol):
     """(R̄, T̄) of the free-standing lossless film averaged uniformly in phase over a band:
     :func:`film_band_average_nb` for this case (closed form (1) with C = 1, D' = 1 + F, t = 1).
@@ -1203,7 +1198,7 @@ def free_film_band_average_nb(c, kq_a, kq_b, d, pol):
     return 1.0 - T, T
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def film_band_moments_nb(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_r, out_t):
     """Legendre moments :math:`\\langle P_j R\\rangle, \\langle P_j T\\rangle`, j = 0..order, of the film over a band.
 
@@ -1367,7 +1362,7 @@ def film_band_moments_nb(c, kq_a, kq_b, d, pol, order, tol, quad_x, quad_w, out_
         out_r[j] = -out_t[j]
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def film_band_rt_grid(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_w, want_r, want_t, out_r, out_t):
     """Band averages with a polynomial weight per band, for every (setting i, band k, thickness j).
 
@@ -1407,7 +1402,7 @@ def film_band_rt_grid(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_w, wa
                 out_t[i, k, j] = min(max(st, 0.0), 1.0)
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def film_band_weighted_sum(coef, kq_a, kq_b, d, pol, weights, tol, quad_x, quad_w, transmit, out):
     """Spectral integrals from band moments: ``out[i, j, c] = sum_k sum_l weights[c, k, l] <P_l f>_k``.
 

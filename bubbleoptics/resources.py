@@ -1,7 +1,7 @@
 """What this machine lets a computation use: memory available now and the cores of this process.
 
 Both packages check sizes against these before they allocate (``bubbleoptics.filmflow`` for a
-run's frames and a series file, ``tracer.limits`` for an image, ``tracer.cluster`` for the
+run's frames and a series file, ``tracer.scene.limits`` for an image, ``tracer.rendering.dask`` for the
 number of Dask workers), so that a request too large is refused with the estimate, up front.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["available_memory_bytes", "usable_cores", "gib"]
+__all__ = ["available_memory_bytes", "usable_cores", "gib", "prefer_workqueue_threads"]
 
 
 def _cgroup_room():
@@ -64,3 +64,21 @@ def usable_cores() -> int:
 def gib(n) -> str:
     """*n* bytes in GiB, three significant digits: ``'1.5 GiB'``."""
     return f"{n / 2**30:.3g} GiB"
+
+
+def prefer_workqueue_threads() -> str:
+    """Run numba's parallel kernels on its own "workqueue" threads unless the user chose a
+    layer (``NUMBA_THREADING_LAYER``); returns the layer in effect.  For applications (the
+    ``tracer`` command, the test suite, the benchmarks), not called by any import.
+
+    numba's OpenMP layer busy-waits at barriers, which on a shared or oversubscribed machine
+    (CI runners, a busy neighbour) makes short parallel kernels many times slower; the
+    workqueue layer does not (docs/performance.md).  It takes effect only before the process's
+    first parallel kernel."""
+    import os
+
+    import numba
+
+    if "NUMBA_THREADING_LAYER" not in os.environ:
+        numba.config.THREADING_LAYER = "workqueue"
+    return numba.config.THREADING_LAYER

@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import tracer  # noqa: E402
-from tracer.output import display_image  # noqa: E402
+from tracer.rendering.output import display_image  # noqa: E402
 
 HERE = Path(__file__).resolve().parent / "images"
 SIZE = 400

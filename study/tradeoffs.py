@@ -50,6 +50,7 @@ keyword arguments of ``tracer.render_with_stats``.
 from __future__ import annotations
 
 import datetime
+import functools
 import inspect
 import io
 import json
@@ -69,7 +70,7 @@ __all__ = [
     "settings_from_defaults", "accepts_spectral_method", "key", "row_key", "describe", "configurations",
     "render_kwargs",
     "SWEEP_SEEDS", "FLOOR_SEED", "ERROR_METRICS", "SUB_PIXELS",
-    "camera_directions", "pixel_hits", "silhouette_mask", "bubble_mask", "dilate",
+    "pixel_hits", "silhouette_mask", "bubble_mask", "dilate",
     "contrast_mask", "interior_mask", "image_errors", "combine_seeds", "floor_errors",
     "reference_settings", "load_references", "save_references", "read_rows", "summary_table",
     "timing_tolerance", "scene_points", "front", "dominators", "assess", "change_advice", "scene_front",
@@ -160,7 +161,7 @@ def configurations(defaults, band=True):
 
     A setting is a dict with ``spectral`` (bool: spectral or RGB transport), ``spectral_samples``,
     ``spectral_method`` (``"point"``: film at the band centre; ``"band"``: band-averaged film;
-    ``"auto"``: the tracer's choice between them, ``tracer.pack.resolve_spectral_method``),
+    ``"auto"``: the tracer's choice between them, ``tracer.prepare.pack.resolve_spectral_method``),
     ``threshold``, ``spp`` and ``depth`` (:func:`settings_from_defaults`).  *defaults*: the
     setting the sweeps are centred on; *band*: include the band-averaged method (when the
     renderer accepts it, :func:`accepts_spectral_method`).  Settings repeat across factors
@@ -237,58 +238,67 @@ def contrast_mask(reference, edge_de00=CONTRAST_DE00):
     return contrast < edge_de00
 
 
-def camera_directions(camera, width, height, px, py):
-    """Unit directions (..., 3) of the pinhole camera rays through image points (*px*, *py*)
-    (pixels, origin top-left; arrays of one shape), as ``tracer.sampling.camera_ray`` computes them.
+def _camera(camera):
+    """*camera* as a one-element :data:`tracer.kernels.records.CAMERA` array: a packed scene's
+    ``camera`` is one already; a mapping gives its fields (``origin``, ``forward``, ``right``,
+    ``up`` unit vectors and ``tan_half_fov``)."""
+    from tracer.kernels.records import CAMERA
 
-    *camera*: a mapping (or a ``tracer.layout.CAMERA`` record) with ``forward``, ``right``,
-    ``up`` unit vectors and ``tan_half_fov``.
+    if isinstance(camera, np.ndarray) and camera.dtype == CAMERA:
+        return camera.reshape(1)
+    rec = np.zeros(1, CAMERA)
+    for name in CAMERA.names:
+        rec[name] = camera[name]
+    return rec
 
-    Example
-    -------
-    >>> cam = dict(forward=(0.0, 0.0, -1.0), right=(1.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), tan_half_fov=1.0)
-    >>> camera_directions(cam, 2, 2, np.array(1.0), np.array(1.0)).tolist()  # the image centre
-    [0.0, 0.0, -1.0]
-    """
-    th = float(camera["tan_half_fov"])
-    sx = (2.0 * np.asarray(px, float) / width - 1.0) * th * (width / height)
-    sy = (1.0 - 2.0 * np.asarray(py, float) / height) * th
-    f, r, u = (np.asarray(camera[k], float) for k in ("forward", "right", "up"))
-    d = f + sx[..., None] * r + sy[..., None] * u
-    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+@functools.cache
+def _hits_kernel():
+    """The numba loop of :func:`pixel_hits`, compiled on first use (the study imports numba and
+    the tracer's kernels only when it intersects)."""
+    from numba import njit
+
+    from bubbleoptics.jit import JIT
+    from tracer.kernels.geometry import intersect_sphere
+    from tracer.kernels.sampling import camera_ray
+
+    @njit(**JIT)
+    def hits(cam, centers, radii, width, height, sub, out):
+        o = (cam.origin[0], cam.origin[1], cam.origin[2])
+        for y in range(height):
+            for x in range(width):
+                for a in range(sub):
+                    for b in range(sub):
+                        d = camera_ray(cam, x + (b + 0.5) / sub, y + (a + 0.5) / sub, width, height)
+                        best, first = np.inf, -1
+                        for i in range(centers.shape[0]):
+                            c = (centers[i, 0], centers[i, 1], centers[i, 2])
+                            t, _ = intersect_sphere(o, d, c, radii[i], 0.0, best)
+                            if t < best:
+                                best, first = t, i
+                        out[y, x, a * sub + b] = first
+
+    return hits
 
 
 def pixel_hits(camera, centers, radii, width, height, sub=SUB_PIXELS):
     """Which sphere each camera ray meets first: int array (height, width, sub * sub).
 
     For every pixel, *sub* x *sub* rays through the centres of a regular sub-pixel grid (no
-    pixel centre among them when *sub* is even), intersected here with the spheres (*centers*
-    (N, 3), *radii* (N,)) by the ray-sphere quadratic: the index of the nearest sphere hit at
-    t > 0 (a camera inside a sphere meets its far side), -1 for none.  *camera*: as
-    :func:`camera_directions`, with ``origin``.  Only spheres: the benchmark's scenes have no
-    meshes (it refuses scenes that do).
+    pixel centre among them when *sub* is even), made and intersected with the spheres
+    (*centers* (N, 3), *radii* (N,)) by the tracer's own kernels
+    (:func:`tracer.kernels.sampling.camera_ray`, :func:`tracer.kernels.geometry.intersect_sphere`):
+    the index of the nearest sphere hit at t > 0 (a camera inside a sphere meets its far side),
+    -1 for none.  *camera*: a packed scene's ``camera`` record or a mapping of its fields
+    (``origin``, ``forward``, ``right``, ``up``, ``tan_half_fov``).  Only spheres: the
+    benchmark's scenes have no meshes (it refuses scenes that do).
     """
-    o = np.asarray(camera["origin"], float)
-    offsets = (np.arange(sub) + 0.5) / sub
-    ys, xs = np.arange(height), np.arange(width)
-    py = ys[:, None, None, None] + offsets[None, None, :, None]
-    px = xs[None, :, None, None] + offsets[None, None, None, :]
-    py, px = np.broadcast_arrays(py, px)
-    d = camera_directions(camera, width, height, px, py).reshape(height, width, sub * sub, 3)
-    best = np.full(d.shape[:-1], np.inf)
-    ids = np.full(d.shape[:-1], -1, dtype=np.int64)
-    for i, (c, radius) in enumerate(zip(np.asarray(centers, float).reshape(-1, 3), np.asarray(radii, float))):
-        oc = o - c
-        b = d @ oc
-        disc = b * b - (oc @ oc - radius * radius)
-        root = np.sqrt(np.where(disc > 0, disc, 0.0))
-        near, far = -b - root, -b + root
-        t = np.where(near > 0, near, far)
-        t = np.where((disc > 0) & (t > 0), t, np.inf)
-        closer = t < best
-        best = np.where(closer, t, best)
-        ids = np.where(closer, i, ids)
-    return ids
+    cam = _camera(camera)
+    centers = np.ascontiguousarray(np.asarray(centers, float).reshape(-1, 3))
+    radii = np.ascontiguousarray(np.asarray(radii, float).reshape(-1))
+    out = np.empty((int(height), int(width), int(sub) * int(sub)), dtype=np.int64)
+    _hits_kernel()(cam[0], centers, radii, int(width), int(height), int(sub), out)
+    return out
 
 
 def silhouette_mask(hits):
@@ -513,7 +523,6 @@ def summary_table(rows):
 # The front and the defaults
 # ------------------------------------------------------------------------------------------
 #: Settings the study proposes (depth is held at the default: it is swept, not proposed).
-PROPOSED = ("spectral_samples", "spectral_method", "threshold", "spp")
 
 
 def row_key(r):

@@ -19,6 +19,10 @@ import os
 
 from hypothesis import HealthCheck, settings
 
+from bubbleoptics.resources import prefer_workqueue_threads
+
+prefer_workqueue_threads()  # as the tracer command does (import bubbleoptics changes no setting)
+
 settings.register_profile(
     "ci",
     max_examples=200,
@@ -44,10 +48,10 @@ import pytest  # noqa: E402
 
 @pytest.fixture(scope="session")
 def client():
-    """A Dask LocalCluster of two one-thread workers (tracer.cluster.local_cluster), shared by
+    """A Dask LocalCluster of two one-thread workers (tracer.rendering.dask.local_cluster), shared by
     the tests of one pytest process (test_movie.py, test_cluster.py)."""
     distributed = pytest.importorskip("distributed")
-    from tracer.cluster import local_cluster
+    from tracer.rendering.dask import local_cluster
 
     with local_cluster(2) as cluster, distributed.Client(cluster) as c:
         yield c

@@ -204,7 +204,7 @@ def replay(n, seed, index):
 # ------------------------------------------------------------------------------------------
 #: The kinds of case of the newer inputs (``make_input_cases``).
 KINDS = ("series", "address", "filmflow", "commands")
-#: The most frames a fuzzed movie may have (tracer.movie_commands.MAX_FRAMES meanwhile).
+#: The most frames a fuzzed movie may have (tracer.movie.timeline.MAX_FRAMES meanwhile).
 FUZZ_MAX_FRAMES = 12
 
 SIMULATED_SCENE = ('[camera]\nposition = [0, 0.3, 4]\nlook_at = [0, 0, 0]\nfov_deg = 40\n[environment]\n'
@@ -417,13 +417,13 @@ def check_input_case(case: InputCase, folder: Path, junk_address=None) -> str | 
                                                                                     "--width", "4", "--height", "4",
                                                                                     "--depth", "2", "--quiet"]
     if case.kind == "commands":
-        from tracer import movie_commands
+        from tracer.movie import timeline as movie_timeline
 
-        saved, movie_commands.MAX_FRAMES = movie_commands.MAX_FRAMES, FUZZ_MAX_FRAMES
+        saved, movie_timeline.MAX_FRAMES = movie_timeline.MAX_FRAMES, FUZZ_MAX_FRAMES
         try:
             status, err, caught = _cli(args)
         finally:
-            movie_commands.MAX_FRAMES = saved
+            movie_timeline.MAX_FRAMES = saved
     else:
         status, err, caught = _cli(args)
     left = sorted(p.name for p in folder.iterdir() if p.name not in inputs)

@@ -15,13 +15,13 @@ def luminance(img):
 def incidence_cosines(scene, w, h):
     """cos(angle of incidence) of each pixel-centre camera ray on the unit sphere at the origin
     (0 where it misses), from the ray-sphere quadratic solved here (the camera ray itself from
-    tracer.sampling.camera_ray, the documented pinhole model)."""
-    cam = tracer.pack.pack_scene(scene).camera[0]
+    tracer.kernels.sampling.camera_ray, the documented pinhole model)."""
+    cam = tracer.prepare.pack.pack_scene(scene).camera[0]
     o = np.asarray(cam["origin"], float)
     out = np.zeros((h, w))
     for y in range(h):
         for x in range(w):
-            d = np.array(tracer.sampling.camera_ray(cam, x + 0.5, y + 0.5, w, h))
+            d = np.array(tracer.kernels.sampling.camera_ray(cam, x + 0.5, y + 0.5, w, h))
             b = o @ d
             disc = b * b - (o @ o - 1.0)
             if disc > 0:

@@ -1,4 +1,4 @@
-"""One image as tiles of rows on a Dask cluster (tracer.cluster): the same pixels as a local
+"""One image as tiles of rows on a Dask cluster (tracer.rendering.dask): the same pixels as a local
 render, bit for bit, from Python and from ``tracer image --workers N``."""
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import tracer
-from tracer.cluster import (CONNECT_DEADLINE, check_cluster_options, check_scheduler_address, connect, max_workers,
+from tracer.rendering.dask import (CONNECT_DEADLINE, check_cluster_options, check_scheduler_address, connect, max_workers,
                             tile_bounds)
-from tracer.pack import pack_scene
-from tracer.render import render_tile, render_with_stats, resolve_settings
+from tracer.prepare.pack import pack_scene
+from tracer.rendering import render_tile, render_with_stats, resolve_settings
 from cli_helpers import assert_one_line, run  # tests/cli_helpers.py
 from net_helpers import JUNK, tcp_server  # tests/net_helpers.py
 

@@ -19,7 +19,7 @@ import pytest
 
 import tracer
 from study.coursework import load_rays, rays_per_level, rays_series
-from tracer.coursework_format import parse_coursework_text
+from tracer.scene.block_format import parse_coursework_text
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data" / "scenes"

@@ -1,6 +1,6 @@
 """Attacks on a served scene editor (``tracer edit``), each one a test that passes when the
 editor refuses it: the security review's findings (docs/editor.md, ``tracer.editor.security``,
-``tracer.file_access``) written as what an attacker would try.
+``tracer.scene.file_access``) written as what an attacker would try.
 
 - who may connect: no token, a wrong or forged one, a foreign Host (DNS rebinding) or Origin,
   a made-up Bokeh session id or websocket token;
@@ -126,7 +126,7 @@ def memory_kib(pid, key):
 def scene_text(**rename):
     """The built-in scene as TOML text, with bubbles renamed (old name: new name, any text)."""
     import tracer
-    from tracer.toml_writer import scene_to_toml_text
+    from tracer.scene.toml_write import scene_to_toml_text
 
     scene = tracer.default_scene()
     for b in scene.bubbles:

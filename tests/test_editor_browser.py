@@ -54,7 +54,7 @@ def root(tmp_path_factory):
 @pytest.fixture(scope="module")
 def scene_file(root):
     import tracer
-    from tracer.toml_writer import save_toml_scene
+    from tracer.scene.toml_write import save_toml_scene
 
     path = root / "bubbles.toml"
     save_toml_scene(tracer.default_scene(), path)

@@ -13,7 +13,7 @@ import tracer
 from tracer.editor import EditorModel, FieldError
 from tracer.editor import model as model_module
 from tracer.editor.preview import PreviewRenderer, film_at_pixel
-from tracer.render import RenderCancelled, render_with_stats
+from tracer.rendering import RenderCancelled, render_with_stats
 
 pytestmark = pytest.mark.api
 SMALL = dict(width=24, height=24)

@@ -1,4 +1,4 @@
-"""No energy lost where a branch is cut (tracer.integrator): analytic answers in uniform light.
+"""No energy lost where a branch is cut (tracer.kernels.integrator): analytic answers in uniform light.
 
 In a uniform environment every escaping ray sees the same radiance B, so a pixel is B times
 the sum of the throughputs of its ray tree's leaves.  A lossless surface splits a ray's
@@ -94,7 +94,7 @@ def test_absorbing_bubble_matches_the_closed_form(depth, threshold):
     scene = one_bubble(FilmProfile("uniform", thickness_nm=300.0), n_film=n)
     w = h = 24
     img = tracer.render(scene, width=w, height=h, depth=depth, threshold=threshold, progress=False)
-    packed = tracer.pack.pack_scene(scene)
+    packed = tracer.prepare.pack.pack_scene(scene)
     wl = packed.wavelengths
     bands_bg = packed.rgb_basis @ np.array(BACKGROUND)
     cosines = incidence_cosines(scene, w, h)
@@ -103,7 +103,7 @@ def test_absorbing_bubble_matches_the_closed_form(depth, threshold):
     R = bo.film_reflectance(wl, 300.0, theta, n_film=n)
     T = bo.film_transmittance(wl, 300.0, theta, n_film=n)
     expected = (bands_bg * (R + T * T / (1 - R))) @ packed.to_rgb.T
-    # 1e-7: a child ray starts 1e-9 of the scene off the film (tracer.geometry.origin_epsilon),
+    # 1e-7: a child ray starts 1e-9 of the scene off the film (tracer.kernels.geometry.origin_epsilon),
     # which tilts the inner chords, and so their angle and R, by about that much
     np.testing.assert_allclose(img[hit], expected, rtol=1e-7, atol=1e-12)
     # the deficit is the absorbed light: positive, and what a lossless film would not lose

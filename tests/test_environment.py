@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from tracer import Camera, Environment, Scene, render
-from tracer.environment import environment_rgb
-from tracer.pack import pack_scene
+from tracer.kernels.environment import environment_rgb
+from tracer.prepare.pack import pack_scene
 
 
 def _label_image(h=4, w=8):

@@ -1,4 +1,4 @@
-"""``tracer.file_access``: the confinement of a served editor's files to its root folder, regular
+"""``tracer.scene.file_access``: the confinement of a served editor's files to its root folder, regular
 files only within a size limit, images checked from their header, and saves that never write
 over a file (unit tests; the attacks through the served page: tests/test_editor_attacks.py)."""
 
@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tracer.errors import SceneError
-from tracer.file_access import ANYWHERE, FileAccess, FileAccessError, check_name
-from tracer.io import load_scene
+from tracer.scene.errors import SceneError
+from tracer.scene.file_access import ANYWHERE, FileAccess, FileAccessError, check_name
+from tracer.scene.load import load_scene
 
 pytestmark = pytest.mark.api
 

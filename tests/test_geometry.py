@@ -1,4 +1,4 @@
-"""Tests of the tracer's geometry kernels (:mod:`tracer.geometry`) and BVH (:mod:`tracer.bvh`).
+"""Tests of the tracer's geometry kernels (:mod:`tracer.kernels.geometry`) and BVH (:mod:`tracer.prepare.bvh`).
 
 analytic: cases with a closed-form answer (the coursework's unit cases, tangent rays, watertightness
 of closed meshes, no self-intersection of spawned rays).  reference: comparisons with an
@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 from numba import njit
 
-from tracer.bvh import LEAF_SIZE, STACK_SIZE, build_bvh, degenerate_triangles
-from tracer.geometry import (
+from tracer.kernels.geometry import STACK_SIZE, degenerate_triangles
+from tracer.prepare.bvh import LEAF_SIZE, build_bvh
+from tracer.kernels.geometry import (
     intersect_bvh,
     intersect_sphere,
     intersect_triangle_sheared,
@@ -717,7 +718,7 @@ def test_bvh_adversarial_equals_brute_force(case, scale_):
 def test_bvh_depth_is_bounded_where_sah_would_peel(monkeypatch):
     """The peeling set makes a pure SAH tree one level per triangle (100), deeper than the
     traversal stack; the object-median levels keep it below 33 + log2(T / 4)."""
-    import tracer.bvh as bvh_module
+    import tracer.prepare.bvh as bvh_module
 
     tris = _adversarial("peeling", np.random.default_rng(0))
     bvh = build_bvh(tris)
@@ -734,7 +735,7 @@ def test_bvh_parallel_build_is_the_serial_tree(monkeypatch):
     one and two threads, and the brute-force nearest hits."""
     import numba
 
-    import tracer.bvh as bvh_module
+    import tracer.prepare.bvh as bvh_module
 
     rng = np.random.default_rng(42)
     tris = _soup(rng, 2 * bvh_module.PARALLEL_MIN + 5000, size=0.02)

@@ -20,7 +20,7 @@ import pytest
 
 from tracer import Scene, load_scene, render
 from tracer.cli import main
-from tracer.limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, LimitError, check_memory, check_settings
+from tracer.scene.limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, LimitError, check_memory, check_settings
 
 from cli_helpers import run  # tests/cli_helpers.py
 from fuzz_inputs import check_case, make_cases, run_input_cases

@@ -20,12 +20,12 @@ from hypothesis import strategies as st
 
 import tracer
 from tracer import Bubble, Camera, Environment, FilmProfile, Material, Mesh, PointLight, Scene, Sphere
-from tracer.errors import SceneError
-from tracer.pack import pack_scene
-from tracer.sampling import camera_ray, cone_sample, orthonormal_basis, stratified_square
+from tracer.scene.errors import SceneError
+from tracer.prepare.pack import pack_scene
+from tracer.kernels.sampling import camera_ray, cone_sample, orthonormal_basis, stratified_square
 from tracer.scene import MAX_LIGHT_SAMPLES
-from tracer.toml_scene import load_toml_scene, parse_toml_text
-from tracer.toml_writer import scene_to_toml_text
+from tracer.scene.toml_read import load_toml_scene, parse_toml_text
+from tracer.scene.toml_write import scene_to_toml_text
 
 WHITE = Material(name="white", color=(1.0, 1.0, 1.0), ambient=0.0, diffuse=1.0, specular=0.0)
 BLACK = Environment(kind="constant", color=(0.0, 0.0, 0.0))
@@ -51,7 +51,7 @@ def render(scene, width, height, **kw):
 
 def floor_points(scene, width, height):
     """Where each pixel-centre camera ray meets the floor y = 0 (H, W, 3), NaN where it does not
-    (the pinhole model of tracer.sampling.camera_ray, the plane intersected here)."""
+    (the pinhole model of tracer.kernels.sampling.camera_ray, the plane intersected here)."""
     cam = pack_scene(scene).camera[0]
     o = np.asarray(cam["origin"], float)
     out = np.full((height, width, 3), np.nan)
@@ -320,7 +320,7 @@ def test_any_sphere_light_gives_a_finite_non_negative_image(cx, cy, radius, samp
                                             ((1e15, 1e15, 0.0), 1e14), ((0.0, 2.0, 0.0), 5e-324)])
 @pytest.mark.parametrize("falloff", ["none", "inverse_square"])
 def test_extreme_sphere_lights_give_finite_images(centre, radius, falloff):
-    """Radii and distances at the limits of a scene (tracer.limits.MAX_MAGNITUDE = 1e15) and a
+    """Radii and distances at the limits of a scene (tracer.scene.limits.MAX_MAGNITUDE = 1e15) and a
     subnormal radius: finite, non-negative pixels (inside a huge light, its shadow rays are
     long; a subnormal one lights nothing)."""
     scene = floor_scene([PointLight(centre, 1.0, falloff=falloff, radius=radius, samples=4)],
@@ -416,7 +416,7 @@ def test_sphere_light_images_are_the_same_every_run_and_on_any_thread_count():
 @pytest.mark.property
 def test_another_seed_gives_other_light_samples_even_at_one_sample_per_pixel():
     """At spp = 1 the camera ray is the pixel centre whatever the seed; the light samples
-    still follow the seed (tracer.sampling.sample_key), so the penumbra's noise changes while
+    still follow the seed (tracer.kernels.sampling.sample_key), so the penumbra's noise changes while
     the fully lit and fully shadowed pixels do not."""
     scene = soft_shadow_bubble_scene()
     kw = dict(width=20, height=16, depth=4, spp=1, progress=False)
@@ -535,7 +535,7 @@ def test_lights_round_trip_through_the_toml_writer(tmp_path):
 @pytest.mark.api
 @pytest.mark.parametrize("change, message", [
     (dict(radius=-1.0), "light 1: radius must be a finite number >= 0"),
-    # non-finite numbers: the scene-limits check (tracer.pack.check_magnitudes) comes first
+    # non-finite numbers: the scene-limits check (tracer.prepare.pack.check_magnitudes) comes first
     (dict(radius=float("nan")), "light 1 radius: nan is not a finite number"),
     (dict(samples=0), f"light 1: samples must be an integer in 1..{MAX_LIGHT_SAMPLES}"),
     (dict(samples=2.5), f"light 1: samples must be an integer in 1..{MAX_LIGHT_SAMPLES}"),

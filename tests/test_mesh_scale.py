@@ -1,4 +1,4 @@
-"""Meshes at scale: face orientation without dense matrices (:mod:`tracer.meshes`), vertex
+"""Meshes at scale: face orientation without dense matrices (:mod:`tracer.prepare.meshes`), vertex
 welding and normals, and packing a mesh of a few hundred thousand triangles.
 
 reference: :func:`literal_rule` below is the coursework's orientation rule written out as
@@ -13,8 +13,8 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from tracer import meshes
-from tracer.meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces, weld_vertices
+from tracer.prepare import meshes
+from tracer.prepare.meshes import computed_vertex_normals, corner_normals, face_normals, orient_faces, weld_vertices
 
 
 def literal_rule(vertices, faces, normals):
@@ -220,8 +220,8 @@ def test_packing_a_200k_triangle_mesh_needs_no_dense_matrix(shape):
     import trimesh
 
     import tracer
-    from tracer.layout import SURFACE_PHONG
-    from tracer.pack import pack_scene
+    from tracer.kernels.records import SURFACE_PHONG
+    from tracer.prepare.pack import pack_scene
     from tracer.scene import Mesh, Scene
 
     if shape == "sphere":
@@ -256,4 +256,4 @@ def test_packing_a_200k_triangle_mesh_needs_no_dense_matrix(shape):
     assert packed.triangles["smooth"].all()
     assert (np.einsum("ijk,ik->ij", vn, n) > 0).all()
     np.testing.assert_allclose(np.linalg.norm(vn, axis=2), 1.0, rtol=0, atol=1e-12)
-    assert tracer.bvh.STACK_SIZE == 64
+    assert tracer.kernels.geometry.STACK_SIZE == 64

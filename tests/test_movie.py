@@ -14,11 +14,12 @@ import numpy as np
 import pytest
 
 import tracer
-import tracer.movie as movie_module
-import tracer.cluster as cluster_module
+import tracer.movie.run as movie_module
+import tracer.rendering.dask as cluster_module
 from tracer.movie import check_movie_output, movie_cache_folder, render_frame_files, render_movie
-from tracer.render import resolve_settings
-from tracer.movie_commands import CommandsError, Timeline
+from tracer.rendering import resolve_settings
+from tracer.movie.commands import CommandsError
+from tracer.movie.timeline import Timeline
 from tracer.scene import Material, Mesh, Scene, Sphere
 from cli_helpers import run, assert_one_line  # tests/cli_helpers.py
 
@@ -297,7 +298,7 @@ def test_a_frame_equals_tracer_image_of_the_scene_it_describes(tmp_path, capsys,
     tl = Timeline.from_file(three() if scene_file else tracer.default_scene(), drift)
     for i, (scene, _) in enumerate(tl.scenes()):
         toml = tmp_path / f"frame{i}.toml"
-        tracer.io.save_toml_scene(scene, toml)
+        tracer.scene.load.save_toml_scene(scene, toml)
         png = tmp_path / f"frame{i}.png"
         assert run(["image", toml, png, *TINY, *display], capsys)[0] == 0
         single = iio.imread(png)
@@ -324,7 +325,7 @@ def test_spectral_out_keeps_each_frames_spectral_image_as_tracer_image_does(tmp_
         if i not in (0, 3):
             continue
         toml = tmp_path / f"frame{i}.toml"
-        tracer.io.save_toml_scene(scene, toml)
+        tracer.scene.load.save_toml_scene(scene, toml)
         single = tmp_path / f"frame{i}.npz"
         assert run(["image", toml, tmp_path / f"frame{i}.png", *TINY, "--spectral-out", single], capsys)[0] == 0
         mine, theirs = tracer.load_spectral(spectra / f"{i:04d}.npz"), tracer.load_spectral(single)
@@ -351,7 +352,7 @@ def test_display_settings_and_spectral_flag_are_in_the_frame_key():
 @pytest.mark.api
 def test_a_scenes_render_table_exposure_applies_to_its_movie(tmp_path, capsys):
     scene = tmp_path / "s.toml"
-    tracer.io.save_toml_scene(tracer.default_scene(), scene)
+    tracer.scene.load.save_toml_scene(tracer.default_scene(), scene)
     text = scene.read_text()
     scene.write_text(text.replace("[render]", "[render]\nexposure = 2.0") if "[render]" in text
                      else text + "\n[render]\nexposure = 2.0\n")
@@ -638,10 +639,10 @@ def test_a_million_frames_start_rendering_at_once_with_flat_memory(tmp_path, mon
     frame) and one frame, not a million frames' scenes."""
     import tracemalloc
 
-    from tracer import movie_commands
+    from tracer.movie import frames as movie_frames
 
     keys, rendered_after = [], []
-    real_key = movie_commands.frame_key
+    real_key = movie_frames.frame_key
 
     def counting_key(frame, bits=8):
         keys.append(frame.index)
@@ -653,7 +654,7 @@ def test_a_million_frames_start_rendering_at_once_with_flat_memory(tmp_path, mon
             raise _StopAfter
         return f"png {frame.index}".encode(), None
 
-    monkeypatch.setattr(movie_commands, "frame_key", counting_key)
+    monkeypatch.setattr(movie_frames, "frame_key", counting_key)
     monkeypatch.setattr(movie_module, "render_frame_files", fake_render)
     scene = three()
     tl = Timeline.from_text(scene, "camera orbit 30\nmove пузырь1 100 0 0\nrender 1000000\n")
@@ -676,7 +677,7 @@ def test_the_cameras_of_a_long_render_are_checked_like_each_frame():
     """The cameras between a render's ends are computed as arrays: the same positions as each
     frame's own scene, and a camera that passes through its look-at point, or looks along its
     up vector, half way is refused naming that frame."""
-    from tracer.movie_commands import _apply, _camera_paths
+    from tracer.movie.timeline import _apply, _camera_paths
 
     text = "camera orbit 70\ncamera position 100 900 1500\ncamera look_at 400 300 20\ncamera orbit -30\n"
     tl = Timeline(three())

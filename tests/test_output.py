@@ -1,4 +1,4 @@
-"""The outputs (tracer.output): display settings, float files, the spectral image, output checks.
+"""The outputs (tracer.rendering.output): display settings, float files, the spectral image, output checks.
 
 * Display: at exposure 0 with the ``clip`` view a PNG is byte for byte what the writer wrote
   before this module existed (that recipe is written out here), and its codes are NumPy's
@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 import tracer
-from tracer import output
-from tracer.output import check_output_path, display_codes, display_image, save_image
+from tracer.rendering import output
+from tracer.rendering.output import check_output_path, display_codes, display_image, save_image
 from cli_helpers import run  # tests/cli_helpers.py
 
 pytestmark = pytest.mark.api
@@ -72,7 +72,7 @@ def test_clip_at_exposure_0_is_the_earlier_png_byte_for_byte(tmp_path, small_chu
     from bubbleoptics.kernels import srgb_encode_quantized_array
 
     image = test_image()
-    # the writer as it was (tracer/render.py before tracer/output.py): codes of the whole image,
+    # the writer as it was (tracer/rendering/api.py before tracer/rendering/output.py): codes of the whole image,
     # Pillow from the whole array, zlib level 3
     codes = np.empty(image.size, np.uint8)
     srgb_encode_quantized_array(image.ravel(), 255.0, codes)
@@ -429,7 +429,7 @@ def test_command_line_choices_are_the_modules():
 @pytest.mark.analytic
 @pytest.mark.parametrize("kwargs", [dict(), dict(spp=2, spectral_samples=8, seed=3)])
 def test_spectral_cube_converts_to_the_rgb_image(kwargs):
-    from tracer.pack import channel_setup
+    from tracer.prepare.pack import channel_setup
 
     scene = tracer.default_scene()
     cube = tracer.render_spectral(scene, **SMALL, **kwargs)
@@ -542,7 +542,7 @@ height = 9
 
 
 def test_toml_display_settings(tmp_path, capsys):
-    from tracer.toml_scene import parse_toml_text
+    from tracer.scene.toml_read import parse_toml_text
 
     scene = parse_toml_text(TOML + 'exposure = 1.5\nview = "clip"\n')
     assert scene.render_defaults["exposure"] == 1.5 and scene.render_defaults["view"] == "clip"
@@ -565,7 +565,7 @@ def test_toml_display_settings(tmp_path, capsys):
     ('view = "agx"\n', "render.view: must be one of 'clip', 'aces', got 'agx'"),
 ])
 def test_toml_display_settings_errors(tmp_path, text, what):
-    from tracer.errors import SceneError
+    from tracer.scene.errors import SceneError
 
     path = tmp_path / "s.toml"
     path.write_text(TOML + text)

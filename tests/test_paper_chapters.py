@@ -4,7 +4,7 @@ The prose of ``paper/sections/{film_flow,movies,editor}.tex`` states some compar
 ("converges at second order", "two estimates bracket the apex", "misses its target"); these tests
 check them against the committed CSVs, so that regenerated data that contradicts the words fails
 here rather than printing a wrong sentence.  The scaling model of the movies chapter is evaluated
-by :func:`tracer.cluster.model_movie_seconds`, checked against a literal evaluation and the benchmark's own rows.  Reading CSVs
+by :func:`study.movie_cost.model_movie_seconds`, checked against a literal evaluation and the benchmark's own rows.  Reading CSVs
 only: milliseconds.
 """
 
@@ -105,10 +105,10 @@ def test_film_flow_frames_are_small_images(validation):
 
 @pytest.mark.reference
 def test_movie_model_matches_a_literal_evaluation_and_the_benchmark_rows():
-    """tracer.cluster.model_movie_seconds (used by benchmarks/movie.py and numbers_movies.py)
+    """study.movie_cost.model_movie_seconds (used by benchmarks/movie.py and numbers_movies.py)
     against the model of its docstring written out here frame by frame, from the measured rows,
     and against the model rows the benchmark wrote."""
-    from tracer.cluster import MODEL_MOVIE, model_movie_seconds
+    from study.movie_cost import MODEL_MOVIE, model_movie_seconds
 
     rows = _rows("movie.csv")
     (dask,) = [r for r in rows if r["case"] == "dask"]

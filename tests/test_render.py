@@ -7,7 +7,7 @@ import pytest
 
 import tracer
 from scene_geometry import incidence_cosines, luminance  # tests/scene_geometry.py
-from tracer.environment import environment_rgb
+from tracer.kernels.environment import environment_rgb
 from tracer.scene import Bubble, Camera, Environment, FilmProfile, Material, PointLight, Scene, Sphere
 
 SMALL = dict(width=24, height=24, progress=False)
@@ -83,12 +83,12 @@ def test_mirror_sphere_shows_exactly_what_it_reflects():
     )
     w = h = 32
     img = tracer.render(scene, width=w, height=h, depth=2, threshold=0.0, progress=False)
-    packed = tracer.pack.pack_scene(scene)
+    packed = tracer.prepare.pack.pack_scene(scene)
     cam = packed.camera[0]
     checked = 0
     for y in range(0, h, 3):
         for x in range(0, w, 3):
-            d = np.array(tracer.sampling.camera_ray(cam, x + 0.5, y + 0.5, w, h))
+            d = np.array(tracer.kernels.sampling.camera_ray(cam, x + 0.5, y + 0.5, w, h))
             o = cam["origin"]
             b = o @ d
             disc = b * b - (o @ o - 1.0)
@@ -129,7 +129,7 @@ def test_scene_scaled_and_shifted_renders_the_same(s, shift):
     """Scaling the whole scene (objects, lights, camera) by 1e-3 or 1e3, or shifting it by 1e5,
     changes no pixel beyond what the coordinates' precision allows: ray offsets are
     proportional to the scene's scale and to its coordinates' magnitude
-    (tracer.geometry.origin_epsilon)."""
+    (tracer.kernels.geometry.origin_epsilon)."""
     ref = tracer.render(full_scene(), depth=6, threshold=0.0, **SMALL)
     img = tracer.render(scaled(full_scene, s, shift), depth=6, threshold=0.0, **SMALL)
     assert np.isfinite(img).all()
@@ -336,10 +336,10 @@ def test_rgb_transport_with_bubbles_is_finite():
     ids=["uniform", "uniform-swirl", "draining-swirl", "draining-inverted", "map-swirl"],
 )
 def test_film_thickness_bound_holds_over_the_whole_bubble(film):
-    """tracer.pack.film_thickness_bound_nm bounds the thickness the integrator evaluates
-    (tracer.films.film_thickness) at every point of the sphere, and is attained without swirl."""
-    from tracer.films import film_thickness
-    from tracer.pack import film_thickness_bound_nm, pack_scene
+    """tracer.prepare.pack.film_thickness_bound_nm bounds the thickness the integrator evaluates
+    (tracer.kernels.thickness.film_thickness) at every point of the sphere, and is attained without swirl."""
+    from tracer.kernels.thickness import film_thickness
+    from tracer.prepare.pack import film_thickness_bound_nm, pack_scene
 
     scene = Scene(bubbles=[Bubble((0.0, 0.0, 0.0), 1.0, film)])
     packed = pack_scene(scene)
@@ -359,9 +359,9 @@ def test_auto_method_chooses_band_only_for_films_beyond_the_point_sampling_limit
     400 nm, normal incidence): just below it point sampling, just above it band averaging; fewer bands lower
     the limit; an explicit method is kept; a bad one is refused."""
     import bubbleoptics as bo
-    from tracer.pack import resolve_spectral_method
+    from tracer.prepare.pack import resolve_spectral_method
 
-    limit16 = float(bo.point_sampling_limit_nm(16, n_film=1.333)) / tracer.pack.AUTO_FRINGE_BANDS
+    limit16 = float(bo.point_sampling_limit_nm(16, n_film=1.333)) / tracer.prepare.pack.AUTO_FRINGE_BANDS
     below, above = bubble_scene(0.99 * limit16), bubble_scene(1.01 * limit16)
     assert resolve_spectral_method(below, 16) == "point"
     assert resolve_spectral_method(above, 16) == "band"

@@ -15,8 +15,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tracer.errors import SceneError, SceneWarning
-from tracer.io import (
+from tracer.scene.errors import SceneError, SceneWarning
+from tracer.scene.load import (
     coursework_to_toml,
     load_coursework_scene,
     load_scene,
@@ -25,7 +25,7 @@ from tracer.io import (
     scene_to_toml_text,
 )
 from tracer.scene import COURSEWORK_NM_PER_UNIT, Camera, Environment, Material, Scene, Sphere
-from tracer.toml_scene import parse_toml_text
+from tracer.scene.toml_read import parse_toml_text
 
 pytestmark = pytest.mark.api
 
@@ -212,9 +212,9 @@ def test_zero_area_faces_are_skipped_with_a_warning(tmp_path):
 
 @pytest.mark.analytic
 def test_both_loaders_skip_exactly_the_faces_the_bvh_calls_degenerate(tmp_path):
-    """One zero-area test (tracer.bvh.degenerate_triangles) for both formats: thinner than 16
+    """One zero-area test (tracer.kernels.geometry.degenerate_triangles) for both formats: thinner than 16
     ulps of the coordinates is skipped, however small the triangle; thin but real is kept."""
-    from tracer.bvh import degenerate_triangles
+    from tracer.kernels.geometry import degenerate_triangles
 
     verts = [(0, 0, 0), (1, 0, 0), (0, 1, 0),  # a good face
              (0.5, 1e-13, 0),  # 1e-13 high over a unit edge: thin, but 30 ulps of its coordinates
@@ -711,7 +711,7 @@ color = "#ffffff"
     assert_same(load_toml_scene(out), scene)
 
 
-# every number the loader accepts: magnitudes up to tracer.limits.MAX_MAGNITUDE, indices up to MAX_INDEX
+# every number the loader accepts: magnitudes up to tracer.scene.limits.MAX_MAGNITUDE, indices up to MAX_INDEX
 FINITE = st.floats(min_value=-1e15, max_value=1e15)
 
 
@@ -751,7 +751,7 @@ def test_coursework_names_with_a_control_character_are_refused(tmp_path):
 @pytest.mark.property
 @given(st.text())
 def test_keys_in_error_messages_are_written_as_toml_reads_them(key):
-    from tracer.toml_scene import _toml_key
+    from tracer.scene.toml_read import _toml_key
 
     assert tomllib.loads(f"{_toml_key(key)} = 1\n") == {key: 1}
     assert "\n" not in _toml_key(key)  # an error message stays one line
@@ -801,7 +801,7 @@ def test_the_simulated_film_example_in_the_docs_loads(tmp_path):
 
 
 def test_coursework_text_can_be_parsed_from_a_string():
-    from tracer.coursework_format import parse_coursework_text
+    from tracer.scene.block_format import parse_coursework_text
 
     text = LISTING_3_2.read_text(encoding="utf-8")
     assert_same(parse_coursework_text(text, LISTING_3_2), load_coursework_scene(LISTING_3_2))

@@ -1,4 +1,4 @@
-"""Simulated films in the tracer (tracer.simulated): a bubbleoptics.filmflow.ThicknessSeries drawn
+"""Simulated films in the tracer (tracer.scene.simulated): a bubbleoptics.filmflow.ThicknessSeries drawn
 as the map it shows at the film time, from Python, from TOML and in movies (the ``time`` command)."""
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import pytest
 
 import tracer
 from bubbleoptics.filmflow import FilmGrid, ThicknessSeries
-from tracer.movie_commands import Timeline
+from tracer.movie.timeline import Timeline
 from tracer.scene import Bubble, Camera, Environment, FilmProfile, Scene
-from tracer.simulated import resolve_simulated_films, sampled_film
+from tracer.scene.simulated import resolve_simulated_films, sampled_film
 from cli_helpers import assert_one_line, run  # tests/cli_helpers.py
 
 SMALL = dict(width=24, height=20, depth=3, progress=False)
@@ -100,7 +100,7 @@ def test_toml_reads_a_series_and_writes_it_back(tmp_path):
     assert film.kind == "simulated" and film.time_s == 1.5 and film.rupture_nm == 3.0
     assert np.array_equal(film.series.h_nm, series([900.0, 500.0]).h_nm)
     again = tmp_path / "again.toml"
-    tracer.io.save_toml_scene(scene, again)
+    tracer.scene.load.save_toml_scene(scene, again)
     assert (tmp_path / "again.bubble0.film.npz").is_file()
     assert np.array_equal(tracer.render(tracer.load_scene(again), **SMALL), tracer.render(scene, **SMALL))
 

@@ -1,4 +1,4 @@
-"""Smooth shading of meshes: interpolated vertex normals (:func:`tracer.geometry.shading_normal`),
+"""Smooth shading of meshes: interpolated vertex normals (:func:`tracer.kernels.geometry.shading_normal`),
 normals from mesh files, and the TOML ``shading`` key.
 
 reference: a finely tessellated sphere shaded smooth renders close to the tracer's analytic
@@ -16,12 +16,12 @@ import pytest
 from numba import njit
 
 import tracer
-from tracer.errors import SceneError
-from tracer.geometry import shading_normal
-from tracer.meshes import corner_normals
+from tracer.scene.errors import SceneError
+from tracer.kernels.geometry import shading_normal
+from tracer.prepare.meshes import corner_normals
 from tracer.scene import Camera, Environment, Material, Mesh, PointLight, Scene, Sphere
-from tracer.toml_scene import load_toml_scene, parse_toml_text
-from tracer.toml_writer import scene_to_toml_text
+from tracer.scene.toml_read import load_toml_scene, parse_toml_text
+from tracer.scene.toml_write import scene_to_toml_text
 
 CLAY = Material(name="clay", color=(0.8, 0.3, 0.2), ambient=0.1, diffuse=0.8, specular=0.3, shininess=20.0)
 BLACK = Environment(kind="constant", color=(0.0, 0.0, 0.0))
@@ -330,18 +330,18 @@ def test_mesh_coordinates_beyond_the_limit_are_one_line_errors(tmp_path):
     with pytest.raises(SceneError) as info:
         load_toml_scene(far)
     assert str(info.value) == (f"{far}:2: meshes[0].path: mesh 'far.obj' has a vertex coordinate of magnitude"
-                               " 2e+15, beyond 1e+15 (tracer.limits)")
+                               " 2e+15, beyond 1e+15 (tracer.scene.limits)")
     scaled = tmp_path / "scaled.toml"
     scaled.write_text('[[meshes]]\npath = "near.obj"\nscale = 1e15\n', encoding="utf-8")
     with pytest.raises(SceneError) as info:
         load_toml_scene(scaled)
     assert str(info.value) == (f"{scaled}:3: meshes[0].scale: the mesh's vertices reach 2e+15, beyond 1e+15"
-                               " (tracer.limits)")
+                               " (tracer.scene.limits)")
 
 
 @pytest.mark.api
 def test_a_mesh_built_in_code_with_bad_shading_fields_is_refused_when_packed():
-    from tracer.pack import pack_scene
+    from tracer.prepare.pack import pack_scene
 
     v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
     f = np.array([[0, 1, 2]])

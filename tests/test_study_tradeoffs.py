@@ -168,7 +168,7 @@ def test_the_mask_no_longer_favours_one_sample_per_pixel():
     on jitter wins; on the bubbles' pixels, and with the silhouettes alone masked, 4 spp is
     already the better."""
     import tracer
-    from tracer.pack import pack_scene
+    from tracer.prepare.pack import pack_scene
 
     scene, size = tracer.default_scene(), 64
     packed = pack_scene(scene, spectral_samples=16)

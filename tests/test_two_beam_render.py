@@ -18,10 +18,10 @@ import pytest
 import bubbleoptics as bo
 import tracer
 from scene_geometry import incidence_cosines  # tests/scene_geometry.py
-from tracer.errors import SceneError
+from tracer.scene.errors import SceneError
 from tracer.scene import Bubble, Camera, Environment, FilmProfile, Scene
-from tracer.toml_scene import parse_toml_text
-from tracer.toml_writer import scene_to_toml_text
+from tracer.scene.toml_read import parse_toml_text
+from tracer.scene.toml_write import scene_to_toml_text
 
 W = H = 20
 THICKNESS_NM = 380.0
@@ -49,7 +49,7 @@ def reflected_bands(model, **kw):
                                   progress=False)
     cosines = incidence_cosines(scene, W, H)
     near_normal = cosines > math.cos(math.radians(35.0))  # mirror child at < 70 degrees from +z
-    white = tracer.pack.pack_scene(scene).rgb_basis @ np.ones(3)
+    white = tracer.prepare.pack.pack_scene(scene).rgb_basis @ np.ones(3)
     return cube.radiance[near_normal] / white, np.arccos(np.clip(cosines[near_normal], 0.0, 1.0)), cube
 
 
@@ -107,7 +107,7 @@ def test_a_two_beam_bubble_conserves_energy_in_uniform_light():
 def test_a_bad_film_model_is_refused_with_one_line_naming_the_bubble(bad):
     scene = half_white_scene(bad)
     with pytest.raises(ValueError, match=r"bubble 'bubble': film_model must be one of 'airy', 'two-beam'") as e:
-        tracer.pack.pack_scene(scene)
+        tracer.prepare.pack.pack_scene(scene)
     assert "\n" not in str(e.value)
 
 

@@ -2,17 +2,17 @@
 
 Units: scene lengths in scene units, film thickness in nm, colours linear sRGB in [0, 1].
 ``render`` returns linear sRGB radiance as an (H, W, 3) float array (values may be negative and
-above 1: see its docstring); ``save_image`` writes it (:mod:`tracer.output`).
+above 1: see its docstring); ``save_image`` writes it (:mod:`tracer.rendering.output`).
+The layers, bottom to top: :mod:`tracer.kernels`, :mod:`tracer.scene`, :mod:`tracer.prepare`,
+:mod:`tracer.rendering`, :mod:`tracer.movie`, then :mod:`tracer.cli` and :mod:`tracer.editor`
+(docs/architecture.md).
 """
 
-from .builtin import default_scene
-from .errors import SceneError
-from .io import load_scene
-from .movie import render_movie
-from .movie_commands import Frame, Timeline
-from .output import SpectralImage, check_output_path, load_spectral, save_spectral
-from .render import DEFAULTS, render, render_spectral, render_with_stats, save_image
-from .scene import Bubble, Camera, Environment, FilmProfile, Material, Mesh, PointLight, Scene, Sphere
+from .movie import Frame, Timeline, render_movie
+from .rendering import (DEFAULTS, SpectralImage, check_output_path, load_spectral, render, render_spectral,
+                        render_with_stats, save_image, save_spectral)
+from .scene import (Bubble, Camera, Environment, FilmProfile, Material, Mesh, PointLight, Scene, SceneError,
+                    Sphere, default_scene, load_scene)
 
 __all__ = [
     "load_scene",

@@ -36,9 +36,9 @@ def _rgb(text):
 
 
 def _setting_type(key):
-    """An argparse type for the limited render setting *key* (:mod:`tracer.limits`): ASCII
+    """An argparse type for the limited render setting *key* (:mod:`tracer.scene.limits`): ASCII
     decimal text (``1e3`` is accepted for an integer setting when integral), within the limits."""
-    from .limits import LimitError, check_setting, describe
+    from .scene.limits import LimitError, check_setting, describe
 
     def parse(text):
         value = None
@@ -52,27 +52,31 @@ def _setting_type(key):
         try:
             return check_setting(key, text if value is None else value)
         except LimitError:
-            shown = text if len(text) <= 40 else text[:37] + "..."
+            from bubbleoptics.messages import shorten
+
+            shown = shorten(text)
             raise argparse.ArgumentTypeError(f"must be {describe(key)}, got {shown!r}") from None
 
     return parse
 
 
 def _exposure(text):
-    """An argparse type: a number of stops within tracer.output.MAX_EXPOSURE (not imported here:
-    the parser is built before anything heavy)."""
+    """An argparse type: a number of stops within :data:`tracer.scene.limits.MAX_EXPOSURE`."""
+    from .scene.limits import MAX_EXPOSURE
+
     try:
         value = float(text) if text.isascii() else None
     except ValueError:
         value = None
-    if value is None or not -_MAX_EXPOSURE <= value <= _MAX_EXPOSURE:
-        shown = text if len(text) <= 40 else text[:37] + "..."
-        raise argparse.ArgumentTypeError(f"expected a number of stops in [{-_MAX_EXPOSURE:g}, {_MAX_EXPOSURE:g}], "
+    if value is None or not -MAX_EXPOSURE <= value <= MAX_EXPOSURE:
+        from bubbleoptics.messages import shorten
+
+        shown = shorten(text)
+        raise argparse.ArgumentTypeError(f"expected a number of stops in [{-MAX_EXPOSURE:g}, {MAX_EXPOSURE:g}], "
                                          f"got {shown!r}")
     return value
 
 
-_MAX_EXPOSURE = 64.0
 #: Options whose default comes from a TOML scene's [render] table when it has one, else DEFAULTS.
 _SCENE_DEFAULTED = ("width", "height", "spp", "threshold", "spectral_samples", "seed", "spectral_method", "depth")
 #: What the command line calls each render setting, in error messages.
@@ -81,7 +85,7 @@ _OPTION_NAMES = {k: "--" + k.replace("_", "-") for k in _SCENE_DEFAULTED}
 
 def _add_render_options(p, movie=False):
     # default None means "not given": resolved after the scene is read (_resolve_settings)
-    from .limits import LIMITS, MAX_EXHAUSTIVE_DEPTH
+    from .scene.limits import LIMITS, MAX_EXHAUSTIVE_DEPTH, SPECTRAL_METHODS
 
     def span(key):
         return f"{LIMITS[key][0]}-{LIMITS[key][1]}"
@@ -94,7 +98,7 @@ def _add_render_options(p, movie=False):
                         f"depth at most {MAX_EXHAUSTIVE_DEPTH})")
     p.add_argument("--spectral-samples", type=_setting_type("spectral_samples"),
                    help=f"wavelength bands for spectral transport, scenes with bubbles ({span('spectral_samples')})")
-    p.add_argument("--spectral-method", choices=("auto", "point", "band"),
+    p.add_argument("--spectral-method", choices=SPECTRAL_METHODS,
                    help="bubble films at the band centres (point), averaged over each band (band), or "
                         "band only where a film is thick enough to alias (auto, the default)")
     p.add_argument("--seed", type=_setting_type("seed"), help="random seed for sample positions (0 to 2^63-1)")
@@ -128,8 +132,8 @@ def _version():
 
 
 def build_parser():
-    from .limits import LIMITS
-    from .render import DEFAULTS
+    from .scene.limits import LIMITS
+    from .rendering.api import DEFAULTS
 
     epilog = ("Render options not given take their value from a TOML scene's [render] table, else the "
               f"defaults: {', '.join(f'{k}={v}' for k, v in DEFAULTS.items())}.")
@@ -194,7 +198,7 @@ def _port(text):
 
 def _edit(args):
     """``tracer edit [SCENE]``: a bad scene file or a missing Panel is one line and status 2."""
-    from .errors import SceneError
+    from .scene.errors import SceneError
 
     import importlib.util
 
@@ -203,7 +207,7 @@ def _edit(args):
     from .editor.app import serve
 
     from .editor.app import check_serve_options
-    from .file_access import FileAccess, FileAccessError
+    from .scene.file_access import FileAccess, FileAccessError
 
     token = False if args.no_token else args.token
     try:
@@ -240,11 +244,11 @@ def _fail(message):
 
 def _check_output(out, bits=None, exposure=None, view=None, suffixes=None):
     """*out* as a Path, if its suffix is one of *suffixes* (default: every output,
-    :data:`tracer.output.OUTPUT_SUFFIXES`), and the options given on the command line (None:
-    not given) suit it, and it can be written (:func:`tracer.output.check_output_path`: the
+    :data:`tracer.rendering.output.OUTPUT_SUFFIXES`), and the options given on the command line (None:
+    not given) suit it, and it can be written (:func:`tracer.rendering.output.check_output_path`: the
     writer installed, the folder exists and is writable, not a folder); else ValueError (one
     line).  Called before the scene is read and rendered."""
-    from .output import DISPLAY_DEFAULTS, OUTPUT_SUFFIXES, check_output_path
+    from .rendering.output import DISPLAY_DEFAULTS, OUTPUT_SUFFIXES, check_output_path
 
     out = Path(out)
     suffixes = tuple(suffixes or OUTPUT_SUFFIXES)
@@ -261,7 +265,7 @@ def _display_settings(args, table, out):
     (.png) the option, else the scene's [render] *table*, else the defaults; for a float output
     only those given on the command line (which :func:`_check_output` has refused), so that a
     scene's display defaults do not stop it from being saved as .npy, .exr or .hdr."""
-    from .output import DISPLAY_DEFAULTS, is_display_output
+    from .rendering.output import DISPLAY_DEFAULTS, is_display_output
 
     given = {k: getattr(args, k) for k in DISPLAY_DEFAULTS if getattr(args, k) is not None}
     if is_display_output(out):
@@ -272,8 +276,8 @@ def _display_settings(args, table, out):
 def _load_scene(path):
     """load_scene, with each SceneWarning printed as its own one line ``FILE:LINE: ...`` on stderr
     (not Python's two-line warning format naming the loader's source line)."""
-    from .errors import SceneWarning
-    from .io import load_scene
+    from .scene.errors import SceneWarning
+    from .scene.load import load_scene
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", SceneWarning)
@@ -290,13 +294,13 @@ def _scene_from_args(args, scene_path):
     """The scene file *scene_path* (the built-in scene when None), its environment replaced by
     ``--background`` when given."""
     if scene_path is None:
-        from .builtin import default_scene
+        from .scene.builtin import default_scene
 
         scene = default_scene()
     else:
         scene = _load_scene(scene_path)
     if args.background is not None:
-        from .scene import Environment
+        from .scene.model import Environment
 
         scene.environment = Environment(kind="constant", color=args.background)
     return scene
@@ -304,8 +308,8 @@ def _scene_from_args(args, scene_path):
 
 def _resolve_settings(args, scene, spectral_image=False):
     """An option given on the command line, else the scene's [render] table (TOML), else
-    DEFAULTS; checked against tracer.limits (errors name the option) and for memory."""
-    from .render import resolve_settings
+    DEFAULTS; checked against tracer.scene.limits (errors name the option) and for memory."""
+    from .rendering.api import resolve_settings
 
     given = {key: getattr(args, key, None) for key in _SCENE_DEFAULTED}
     names = dict(_OPTION_NAMES)
@@ -319,6 +323,9 @@ EXIT_INTERRUPTED = 130  # 128 + SIGINT, the shells' convention
 
 def main(argv=None):
     """Run the command line; returns the exit status (0; 2 for bad input; 130 on Ctrl-C)."""
+    from bubbleoptics.resources import prefer_workqueue_threads
+
+    prefer_workqueue_threads()
     try:
         return _main(argv)
     except KeyboardInterrupt:
@@ -339,10 +346,10 @@ def _main(argv=None):
         return _movie(args)
     if args.command == "edit":
         return _edit(args)
-    from .cluster import check_cluster_options, cluster_client
-    from .errors import SceneError
-    from .output import save_spectral
-    from .render import render_with_stats, save_image
+    from .rendering.dask import check_cluster_options, cluster_client
+    from .scene.errors import SceneError
+    from .rendering.output import save_spectral
+    from .rendering.api import render_with_stats, save_image
 
     try:
         if args.command == "image":
@@ -386,7 +393,7 @@ def _main(argv=None):
 
 def _add_movie_commands(sub, epilog):
     """``tracer movie`` and ``tracer film`` (the coursework's name for it, same arguments)."""
-    from .limits import LIMITS
+    from .scene.limits import LIMITS
 
     for name in ("movie", "film"):
         help_ = ("render a movie: the scene changed between frames by a commands file (.mp4, .gif or a "
@@ -426,7 +433,7 @@ def _fps(text):
 
 def _workers(text):
     """An argparse type: an integer >= 1 (its upper limit, the cores, is checked with the other
-    cluster options by tracer.cluster.check_cluster_options, which names the count)."""
+    cluster options by tracer.rendering.dask.check_cluster_options, which names the count)."""
     if not (text.isascii() and text.isdigit()) or len(text) > 100 or not int(text) >= 1:
         raise argparse.ArgumentTypeError(f"must be an integer >= 1 (at most one per core), got {text[:40]!r}")
     return int(text)
@@ -439,10 +446,10 @@ _CLUSTER_NAMES = {"workers": "--workers", "scheduler": "--scheduler"}
 def _movie(args):
     """``tracer movie|film [SCENE] OUT COMMANDS``: everything checked before any work; exit 2
     with one line on a bad input, nothing written."""
-    from .cluster import check_cluster_options
-    from .errors import SceneError
-    from .movie import DEFAULT_FPS, check_movie_output, check_spectral_output, render_movie
-    from .movie_commands import Timeline
+    from .rendering.dask import check_cluster_options
+    from .scene.errors import SceneError
+    from .movie.run import DEFAULT_FPS, check_movie_output, check_spectral_output, render_movie
+    from .movie.timeline import Timeline
 
     try:
         if len(args.paths) not in (2, 3):

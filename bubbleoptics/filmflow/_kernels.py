@@ -12,6 +12,7 @@ lines innermost: the θ sweep (:func:`plug_sweep_nb`) on the arrays as stored, t
 
 import numpy as np
 from numba import njit, prange
+from ..jit import JIT, JIT_INLINE, JIT_PARALLEL
 
 __all__ = [
     "rigid_rate_nb",
@@ -22,15 +23,12 @@ __all__ = [
     "plug_rows_sweep_nb",
 ]
 
-_JIT = dict(cache=True, error_model="numpy")
-_JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
-_JIT_INLINE = dict(inline="always", error_model="numpy")  # inlined into its callers: no cache of its own
 
 #: scratch arrays of a plug-flow sweep (each (n + 1, lines))
 N_SCRATCH = 11
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def rigid_rate_nb(h, area, face_len, sin_f, k_lub, out):
     """:math:`\\partial h/\\partial t` of rigid-interface drainage on one θ column, first-order
     upwind finite volume.
@@ -55,7 +53,7 @@ def rigid_rate_nb(h, area, face_len, sin_f, k_lub, out):
     return fastest
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def evaporate_line_nb(h, depth, area):
     """Thin the cells of one line by *depth* (m, = E dt), never below 0, in place; return the
     volume removed (m³, exactly what left the cells: less than depth x area where one runs dry).
@@ -73,7 +71,7 @@ def evaporate_line_nb(h, depth, area):
     return s
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def evaporate_nb(h, depth, area):
     """:func:`evaporate_line_nb` on every row of *h* (n_theta, n_phi), row j of area area[j];
     returns the volume removed (m³)."""
@@ -92,7 +90,7 @@ def evaporate_nb(h, depth, area):
     return row.sum()
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def rigid_step_nb(h, dt, area, face_len, sin_f, k_lub, evaporation, cfl, max_substeps, substeps, evaporated):
     """Advance rigid-interface drainage by *dt* seconds, in place, each θ column on its own (the
     columns do not exchange liquid): SSP-RK3 (Shu & Osher 1988) substeps of at most
@@ -137,7 +135,7 @@ def rigid_step_nb(h, dt, area, face_len, sin_f, k_lub, evaporation, cfl, max_sub
         evaporated[k] = ev
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _eliminate_nb(j, k, n, a, b, c, d1, d2, CP, DP, DP2, DZ, EDGE, cyclic):
     """Forward elimination (Thomas) of row j of line k: a x_{j-1} + b x_j + c x_{j+1} = d1 (and
     = d2, a second right-hand side).  Periodic lines (row 0 coupled to x_{n-1} by its a, row
@@ -168,7 +166,7 @@ def _eliminate_nb(j, k, n, a, b, c, d1, d2, CP, DP, DP2, DZ, EDGE, cyclic):
     CP[j, k] = c * w
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _back_nb(n, k0, k1, CP, DP, X):
     """X[j] = DP[j] - CP[j] X[j+1] from the last row up (X may be DP)."""
     for k in range(k0, k1):
@@ -178,7 +176,7 @@ def _back_nb(n, k0, k1, CP, DP, X):
             X[j, k] = DP[j, k] - CP[j, k] * X[j + 1, k]
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _correct_nb(n, k0, k1, X, DZ, EDGE):
     """Sherman-Morrison: X -= f z, f = (X_0 + r X_{n-1}) / (1 + z_0 + r z_{n-1}), r = a_0/γ
     (EDGE[1] / EDGE[0]); f is kept in EDGE[2]."""
@@ -190,7 +188,7 @@ def _correct_nb(n, k0, k1, X, DZ, EDGE):
             X[j, k] -= EDGE[2, k] * DZ[j, k]
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic, two):
     """Back substitution after :func:`_eliminate_nb` on every row: the solution into X (and,
     if *two*, the second one into X2; either may be its DP), with the Sherman-Morrison
@@ -205,7 +203,7 @@ def _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, X, X2, cyclic, two):
             _correct_nb(n, k0, k1, X2, DZ, EDGE)
 
 
-@njit(**_JIT_INLINE)
+@njit(**JIT_INLINE)
 def _marangoni_face_nb(i, lo, k, h, G, v, face_len, dist, gforce, dt, rho, drag, two_rt, VS, BE, CC, Q):
     """Face i (between cells lo and i) of step 1 of :func:`_plug_lines_nb`: v' = VS - BE ΔΓ';
     CC and Q the face's terms in the surfactant system."""
@@ -221,7 +219,7 @@ def _marangoni_face_nb(i, lo, k, h, G, v, face_len, dist, gforce, dt, rho, drag,
     Q[i, k] = t * vs
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, drag, two_rt, s, cyclic):
     """One implicit plug-flow update of lines k0..k1-1 (in place).
 
@@ -305,7 +303,7 @@ def _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, dr
     _back_substitute_nb(n, k0, k1, CP, DP, DP2, DZ, EDGE, h, G, cyclic, True)
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def plug_sweep_nb(h, G, v, dt, area, face_len, dist, gforce, rho, drag, two_rt, scratch, cyclic, chunks):
     """One plug-flow half-step along axis 0 of *h*, *G* (n, m), for all m lines at once
     (:func:`_plug_lines_nb`), the lines split into *chunks* blocks run in parallel.
@@ -320,7 +318,7 @@ def plug_sweep_nb(h, G, v, dt, area, face_len, dist, gforce, rho, drag, two_rt, 
             _plug_lines_nb(h, G, v, n, k0, k1, area, face_len, dist, gforce, dt, rho, drag, two_rt, scratch, cyclic)
 
 
-@njit(**_JIT_PARALLEL)
+@njit(**JIT_PARALLEL)
 def plug_rows_sweep_nb(h, G, w, dt, geometry, rho, drag, two_rt, scratch, buffers, block):
     """The φ half-step of plug flow on the rows of *h*, *G* (n_theta, n_phi), periodic, in place.
 

@@ -39,6 +39,7 @@ import math
 import numpy as np
 
 from ..resources import available_memory_bytes, gib
+from ..messages import shorten
 
 __all__ = ["PARAMETER_LIMITS", "RUN_LIMITS", "MAX_STEPS", "check_number", "check_memory", "kept_frames"]
 
@@ -66,8 +67,7 @@ MAX_STEPS = 10_000_000
 
 
 def _show(value):
-    text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
+    return shorten(repr(value))
 
 
 def describe(name, table=None):

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 import tracer
-from tracer.toml_scene import parse_toml_text
+from tracer.scene.toml_read import parse_toml_text
 
 HERE = Path(__file__).resolve().parent
 DOC = HERE.parent / "scene-format.md"

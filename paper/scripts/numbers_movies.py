@@ -4,8 +4,8 @@
   LocalCluster, Dask's overhead a frame, the encoder's share, one large image here and as row
   tiles, and the scaling model.  The model (a 3840x2160, 64-spp, one-minute movie on 8, 64 and
   512 one-core workers; assumptions in ``benchmarks/movie.py``'s docstring) is evaluated here
-  again from the measured rows by :func:`tracer.cluster.model_movie_seconds` (the function the
-  benchmark uses, with :data:`tracer.cluster.MODEL_MOVIE`), and checked against the benchmark's own model rows: a
+  again from the measured rows by :func:`study.movie_cost.model_movie_seconds` (the function the
+  benchmark uses, with :data:`study.movie_cost.MODEL_MOVIE`), and checked against the benchmark's own model rows: a
   difference of more than 1 % makes the section n/a.
 * ``moviefiles``: the example commands files in ``data/movies/`` (frames and what they do).
 """
@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import re
 
-from make_numbers import ROOT, _date, _machine, read_commented_csv, significant
+from macros import date_of, machine_of, read_commented_csv, significant
+from paths import ROOT
 
 MODEL_WORKERS = (8, 64, 512)
 _WORDS = {8: "Eight", 64: "SixtyFour", 512: "FiveTwelve"}
@@ -29,7 +30,7 @@ def _tile_image():
 
 
 def _tiles_per_worker():
-    from tracer.cluster import TILES_PER_WORKER
+    from tracer.rendering.dask import TILES_PER_WORKER
 
     return TILES_PER_WORKER
 
@@ -43,7 +44,7 @@ def _median_and_range(name, row, columns, scale, units):
 
 def movies(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "movie.csv")
-    from tracer.cluster import MODEL_MOVIE, model_movie_seconds
+    from study.movie_cost import MODEL_MOVIE, model_movie_seconds
 
     by_case = {}
     for r in rows:
@@ -54,7 +55,7 @@ def movies(dirs):
     frames = int(f(dask, "frames"))
     size = int(f(dask, "width"))
     out = {
-        "MovieDate": _date(notes), "MovieMachine": _machine(notes),
+        "MovieDate": date_of(notes), "MovieMachine": machine_of(notes),
         "MovieFrames": str(frames), "MovieSize": str(size), "MovieWorkers": str(int(f(dask, "workers"))),
         "MovieSerialFps": significant(f(serial, "frames_per_second"), 2),
         "MovieDaskFps": significant(f(dask, "frames_per_second"), 2),

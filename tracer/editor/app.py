@@ -12,7 +12,7 @@ under its field and changes nothing (the previous image stays).  Each change ren
 preview (a sixth of the width and height), then the full image
 (:class:`tracer.editor.preview.PreviewRenderer`).
 
-Files are read and written through a :class:`tracer.file_access.FileAccess`: a served editor
+Files are read and written through a :class:`tracer.scene.file_access.FileAccess`: a served editor
 confines them to its root folder, reads regular files only within a size limit, and never
 writes over a file.  Reading and writing run in a thread pool, off the server's event loop;
 the renders run in the scheduler's thread (:mod:`tracer.editor.scheduler`).  Who may connect
@@ -41,15 +41,16 @@ from bokeh.events import ConnectionLost, Tap
 from bokeh.models import ColumnDataSource
 from bokeh.plotting import figure
 
-from ..errors import SceneError
-from ..file_access import ANYWHERE, FileAccess, FileAccessError
-from ..io import load_scene
-from ..movie_commands import BUBBLE_FIELDS, FILM_KIND_FIELDS, PHONG_FIELDS
-from ..output import display_codes
-from ..scene import Scene
+from ..scene.errors import SceneError
+from ..scene.file_access import ANYWHERE, FileAccess, FileAccessError
+from ..scene.load import load_scene
+from ..movie.commands import BUBBLE_FIELDS, FILM_KIND_FIELDS, PHONG_FIELDS
+from ..rendering.output import display_codes
+from ..scene.model import Scene
 from .model import MAX_SIDE, EditorModel, FieldError, format_number
 from .preview import PreviewRenderer
 from .scheduler import scheduler
+from bubbleoptics.messages import shorten
 
 __all__ = ["EditorApp", "serve", "free_port", "MAX_SESSIONS", "MAX_SCENE_BYTES", "MAX_ASSET_BYTES",
            "MAX_IMAGE_PIXELS"]
@@ -683,15 +684,15 @@ def free_port(address="127.0.0.1") -> int:
 def _one_line(text) -> str:
     """A message as one line of at most 300 characters (a file's text never spills into it)."""
     text = " ".join(str(text).split())
-    return text if len(text) <= 300 else text[:297] + "..."
+    return shorten(text, 300)
 
 
 def _parse_upload(name, data, access):
     """The scene in an uploaded file's bytes (never written to disk): the files it names are
     looked for in *access*'s root."""
-    from ..coursework_format import parse_coursework_text, split_lines
-    from ..scene_text import decode_scene_bytes
-    from ..toml_scene import parse_toml_text
+    from ..scene.block_format import parse_coursework_text, split_lines
+    from ..scene.text import decode_scene_bytes
+    from ..scene.toml_read import parse_toml_text
 
     text = decode_scene_bytes(name, data)
     if name.lower().endswith(".toml"):
@@ -724,11 +725,11 @@ def _wait_for_saves(timeout):
 
 
 def _png_bytes(codes) -> bytes:
-    """Display codes (8-bit sRGB, :func:`tracer.output.display_codes`) as the PNG that
-    :func:`tracer.output.save_image` writes."""
+    """Display codes (8-bit sRGB, :func:`tracer.rendering.output.display_codes`) as the PNG that
+    :func:`tracer.rendering.output.save_image` writes."""
     from PIL import Image
 
-    from ..output import PNG_COMPRESS_LEVEL
+    from ..rendering.output import PNG_COMPRESS_LEVEL
 
     out = io.BytesIO()
     Image.fromarray(codes, mode="RGB").save(out, format="PNG", compress_level=PNG_COMPRESS_LEVEL)
@@ -753,9 +754,9 @@ def _warm_up_steps(scene):
     the next ones."""
     from bubbleoptics import film_color
 
-    from ..builtin import default_scene
-    from ..render import render_with_stats
-    from .preview import _film_at_pixel
+    from ..scene.builtin import default_scene
+    from ..rendering.api import render_with_stats
+    from .preview import film_at_pixel
     from .scheduler import BACKGROUND
 
     def steps(cancel):
@@ -764,7 +765,7 @@ def _warm_up_steps(scene):
         display_codes(render_with_stats(s, width=8, height=8, progress=False, cancel=cancel)[0])
         yield BACKGROUND
         if s.bubbles:
-            _film_at_pixel(s, 4, 4, 8, 8)
+            film_at_pixel(s, 4, 4, 8, 8)
         yield BACKGROUND
         import colour  # noqa: F401  (colour-science: film_color's first call imports it, seconds)
 
@@ -886,7 +887,7 @@ def _shutdown(server, seconds=1.0) -> bool:
     except Exception:  # a server that never started
         pass
     if stopped:
-        from ..render import PARALLEL_LOCK
+        from ..rendering.api import PARALLEL_LOCK
 
         # no parallel kernel may start while the interpreter exits (numba's workqueue layer
         # aborts the process when its threads are torn down mid-kernel)

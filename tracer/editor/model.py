@@ -9,6 +9,7 @@ file (:meth:`EditorModel.commands_text`) that ``tracer movie`` (or
 Values come from text fields, so every edit takes numbers or strings.  A bad value raises
 :class:`FieldError` naming the field and the allowed range, and changes nothing.
 
+>>> import tracer
 >>> m = EditorModel(tracer.default_scene())
 >>> m.change_light(1, 0, 3, 4, "2.5").lights[0].intensity
 2.5
@@ -27,17 +28,18 @@ import math
 import shlex
 from pathlib import Path
 
-import tracer
 
 from bubbleoptics.atomic import write_atomically
 
-from ..file_access import ANYWHERE, FileAccess, check_name
-from ..io import load_scene
-from ..limits import MAX_MAGNITUDE, check_setting
-from ..movie_commands import BUBBLE_FIELDS, PHONG_FIELDS, SWITCH_FIELDS, Timeline
-from ..output import MAX_EXPOSURE
-from ..render import DEFAULTS
-from ..scene import Scene
+from ..scene.file_access import ANYWHERE, FileAccess, check_name
+from ..scene.load import load_scene
+from ..scene.limits import MAX_EXPOSURE, MAX_MAGNITUDE, check_setting
+from ..movie.commands import BUBBLE_FIELDS, PHONG_FIELDS, SWITCH_FIELDS
+from ..movie.timeline import Timeline
+from ..rendering.api import DEFAULTS
+from ..scene.builtin import default_scene
+from ..scene.model import Bubble, Scene
+from bubbleoptics.messages import shorten
 
 __all__ = ["EditorModel", "FieldError", "FIELDS", "SETTINGS", "EDITOR_LIMITS", "MAX_SIDE", "MAX_WORK", "render_work",
            "check_field", "check_settings_field", "format_number"]
@@ -55,7 +57,7 @@ class FieldError(ValueError):
 # field: (number of values, lowest, highest, lowest excluded), as movie_commands' tables
 _ANY = (1, -MAX_MAGNITUDE, MAX_MAGNITUDE, False)
 #: Every numeric field of the editor's forms and its allowed range: the optical parameters
-#: are the commands file's (:data:`tracer.movie_commands.PHONG_FIELDS`, ``BUBBLE_FIELDS``).
+#: are the commands file's (:data:`tracer.movie.commands.PHONG_FIELDS`, ``BUBBLE_FIELDS``).
 FIELDS = {
     **{c: _ANY for c in ("x", "y", "z", "dx", "dy", "dz", "orbit")},
     "intensity": (1, 0.0, MAX_MAGNITUDE, False),
@@ -64,7 +66,7 @@ FIELDS = {
     **PHONG_FIELDS,
     **BUBBLE_FIELDS,
 }
-#: The render settings the editor changes: the CLI's limits (:mod:`tracer.limits`) within the
+#: The render settings the editor changes: the CLI's limits (:mod:`tracer.scene.limits`) within the
 #: editor's render budget below, and the display exposure in stops.
 SETTINGS = ("depth", "spp", "spectral_samples", "exposure")
 
@@ -138,7 +140,7 @@ def check_settings_field(name, value):
             raise ValueError
     except ValueError:
         shown = str(value).strip()
-        shown = shown if len(shown) <= 40 else shown[:37] + "..."
+        shown = shorten(shown)
         raise FieldError(name, f"{name} must be an integer from 1 to {cap} in the editor (its render budget;"
                                f" tracer image renders more), got {shown}") from None
     return v
@@ -175,7 +177,7 @@ class EditorModel:
         if not (1 <= self.size[0] <= MAX_SIDE and 1 <= self.size[1] <= MAX_SIDE):
             raise FieldError(None, f"the editor's image is at most {MAX_SIDE} x {MAX_SIDE} pixels, got"
                                    f" {self.size[0]} x {self.size[1]}")
-        self._reset(scene if scene is not None else tracer.default_scene())
+        self._reset(scene if scene is not None else default_scene())
 
     @staticmethod
     def check_names(scene) -> Scene:
@@ -205,7 +207,7 @@ class EditorModel:
     def load(self, path, access: FileAccess = ANYWHERE):
         """Load the scene file *path* (either format) and forget the edits; a bad file raises
         :class:`tracer.SceneError` (``FILE:LINE: ...``) and keeps the scene that was loaded.
-        *access*: which files it and its assets may be (:class:`tracer.file_access.FileAccess`)."""
+        *access*: which files it and its assets may be (:class:`tracer.scene.file_access.FileAccess`)."""
         return self.replace(load_scene(path, access))
 
     def replace(self, scene: Scene):
@@ -245,7 +247,7 @@ class EditorModel:
         """The optical parameters of object *name* as the "Change parameters" form shows them
         (field: value); a bubble's include its film's kind (``profile``) and index (``n_film``)."""
         o = self.object(name)
-        if isinstance(o, tracer.Bubble):
+        if isinstance(o, Bubble):
             f = o.film
             out = {"shininess": o.shininess, "profile": f.kind, "n_film": o.n_film}
             out.update({k: getattr(f, k) for k in BUBBLE_FIELDS if k != "shininess"})
@@ -405,7 +407,7 @@ class EditorModel:
 
     def save_scene(self, path) -> Path:
         """**Save scene**: the edited scene as TOML (its render settings in ``[render]``)."""
-        from ..toml_writer import save_toml_scene
+        from ..scene.toml_write import save_toml_scene
 
         return save_toml_scene(self.scene, path, header=self._scene_header())
 
@@ -416,10 +418,10 @@ class EditorModel:
         """For **Save scene**: a function of a name's stem that gives the files of the edited
         scene as it is now, ``{file name: bytes}``: the TOML file ``stem.toml`` and the arrays
         it names beside it (an image environment, thickness maps), made in a temporary folder
-        (:meth:`tracer.file_access.FileAccess.save_new` then links them into place)."""
+        (:meth:`tracer.scene.file_access.FileAccess.save_new` then links them into place)."""
         import tempfile
 
-        from ..toml_writer import save_toml_scene
+        from ..scene.toml_write import save_toml_scene
 
         scene, header = self.scene, self._scene_header()
 

@@ -10,7 +10,7 @@ process take turns in one thread (:mod:`tracer.editor.scheduler`).
 :func:`film_at_pixel` is what the picked pixel shows beside the image: it casts the pixel's
 camera ray (the ray through the pixel's centre, as the renderer's first sample) against the
 scene's bubbles and, at the *first bubble it hits*, evaluates that bubble's film thickness there
-(:func:`tracer.films.film_thickness`, the renderer's own profile) and the reflectance spectrum of
+(:func:`tracer.kernels.thickness.film_thickness`, the renderer's own profile) and the reflectance spectrum of
 its front film at that angle of incidence (:func:`bubbleoptics.film_reflectance`, 360-780 nm every 1 nm), with the
 colour of that spectrum under D65 (:func:`bubbleoptics.film_color`). It ignores what lies in
 front of the bubble (a sphere, a mesh) and the light that reaches it: it shows the film, not the
@@ -25,9 +25,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..output import display_codes
-from ..pack import pack_scene
-from ..render import PARALLEL_LOCK, RenderCancelled, render_in_parts, resolve_settings
+from ..rendering.output import display_codes
+from ..prepare.pack import pack_scene
+from ..rendering.api import PARALLEL_LOCK, RenderCancelled, render_in_parts, resolve_settings
 from .scheduler import BACKGROUND, INTERACTIVE, STEP_SECONDS
 from .scheduler import scheduler as default_scheduler
 
@@ -84,7 +84,7 @@ class PreviewRenderer:
             return
 
         def steps(cancel):
-            sample = _film_at_pixel(scene, col, row, width, height) if scene.bubbles else None
+            sample = film_at_pixel(scene, col, row, width, height) if scene.bubbles else None
             if not cancel.is_set():
                 on_pick(sample)
             return
@@ -155,10 +155,10 @@ class FilmSample:
 
 
 def _camera_ray(scene, px, py, width, height):
-    from ..pack import _camera_record
-    from ..sampling import camera_ray
+    from ..prepare.pack import camera_record
+    from ..kernels.sampling import camera_ray
 
-    cam = _camera_record(scene.camera)[0]
+    cam = camera_record(scene.camera)[0]
     return np.array(cam["origin"], float), np.array(camera_ray(cam, px, py, width, height))
 
 
@@ -166,20 +166,20 @@ def film_at_pixel(scene, col, row, width, height):
     """The film of the first bubble that the camera ray through the centre of pixel
     (*col*, *row*) of a *width* x *height* image meets (see the module docstring), as a
     :class:`FilmSample`; None when the ray meets no bubble.  It waits for a render running in
-    another thread (:data:`tracer.render.PARALLEL_LOCK`)."""
+    another thread (:data:`tracer.rendering.local.PARALLEL_LOCK`)."""
     if not scene.bubbles:
         return None
-    with PARALLEL_LOCK:  # packing and the spectra run parallel kernels (see tracer.render.PARALLEL_LOCK)
-        return _film_at_pixel(scene, col, row, width, height)
+    with PARALLEL_LOCK:  # packing and the spectra run parallel kernels (see tracer.rendering.local.PARALLEL_LOCK)
+        return _film_sample(scene, col, row, width, height)
 
 
-def _film_at_pixel(scene, col, row, width, height):
+def _film_sample(scene, col, row, width, height):
     from bubbleoptics import film_color, film_reflectance
     from bubbleoptics.colorimetry import DEFAULT_WAVELENGTHS_NM
 
-    from ..films import film_thickness
-    from ..geometry import intersect_sphere
-    from ..pack import _film_index, pack_scene
+    from ..kernels.thickness import film_thickness
+    from ..kernels.geometry import intersect_sphere
+    from ..prepare.pack import film_index, pack_scene
 
     o, d = _camera_ray(scene, col + 0.5, row + 0.5, width, height)
     best, best_t = None, math.inf
@@ -198,7 +198,7 @@ def _film_at_pixel(scene, col, row, width, height):
     cos_i = min(1.0, abs(float(np.dot(d, n))))
     theta = math.acos(cos_i)
     wl = DEFAULT_WAVELENGTHS_NM  # 360-780 nm every 1 nm, film_color's grid
-    n_film = None if b.n_film == "water" else _film_index(b, wl)
+    n_film = None if b.n_film == "water" else film_index(b, wl)
     R = np.asarray(film_reflectance(wl, thickness, theta, n_film), float)
     srgb = np.asarray(film_color(thickness, theta, n_film), float)
     return FilmSample(b.name, thickness, math.degrees(theta), wl, R, tuple(srgb.tolist()))

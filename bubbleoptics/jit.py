@@ -1,0 +1,20 @@
+"""The numba options every kernel of the project is compiled with (bubbleoptics and the tracer).
+
+``error_model="numpy"``: a float division never raises (the denominators are positive by
+construction, and the property tests check that no NaN appears); without it numba guards every
+division with a branch, which stops LLVM from vectorizing the thickness loop (several times
+slower).  ``cache=True``: compiled code is kept in numba's on-disk cache, so a second process
+starts at once.
+"""
+
+__all__ = ["JIT", "JIT_INLINE", "JIT_PARALLEL", "JIT_NO_NRT"]
+
+#: A kernel of its own, cached on disk.
+JIT = dict(cache=True, error_model="numpy")
+#: Inlined into its callers (numba IR inlining): no cache of its own.
+JIT_INLINE = dict(inline="always", error_model="numpy")
+#: A parallel kernel (``prange``), cached on disk.
+JIT_PARALLEL = dict(cache=True, error_model="numpy", parallel=True)
+#: A per-ray function that allocates nothing, compiled without numba's reference counting
+#: (:mod:`tracer.kernels.integrator` says why).
+JIT_NO_NRT = dict(_nrt=False, cache=True, error_model="numpy")

@@ -1,0 +1,193 @@
+"""Rendering here, on this machine's numba threads: the integrator called on sets of rows, in
+short calls that can be cancelled, interleaved so that every call refines the whole image.
+The Python API (:mod:`tracer.rendering.api`) and the Dask tasks (:mod:`tracer.rendering.dask`)
+both render through :func:`render_in_parts` and :func:`render_tile`."""
+
+from __future__ import annotations
+
+import sys
+import threading
+import time
+
+import numpy as np
+
+from ..kernels.integrator import N_COUNTS, render_rows
+from ..kernels.records import PackedScene
+
+__all__ = ["render_in_parts", "render_here", "render_tile", "warm_up", "RenderCancelled", "PARALLEL_LOCK",
+           "spread_rows", "ROWS_PER_TASK", "PROGRESS_AFTER", "CALL_SECONDS"]
+
+
+class RenderCancelled(Exception):
+    """A render stopped because its *cancel* argument said so (:func:`render_with_stats`)."""
+
+
+def _cancelled(cancel) -> bool:
+    """Whether *cancel* (None, a ``threading.Event`` or a callable returning a truth value) asks
+    the render to stop."""
+    if cancel is None:
+        return False
+    is_set = getattr(cancel, "is_set", None)
+    return bool(is_set() if is_set is not None else cancel())
+
+
+#: Rows per task of the parallel loop (one workspace each): small enough to balance an image
+#: whose objects sit in one part of it (the rows are spread over the tasks, :func:`spread_rows`),
+#: large enough that a task's workspace costs nothing.
+ROWS_PER_TASK = 8
+#: A render predicted to take longer than this (s) shows a progress bar and is split into
+#: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
+PROGRESS_AFTER = 0.5
+CALL_SECONDS = 0.25
+#: Hold this around any other parallel numba kernel (e.g. :func:`tracer.rendering.output.display_codes`,
+#: the film index tables :func:`tracer.prepare.pack.pack_scene` computes) called from a thread while
+#: renders may run in others: numba's default (workqueue) thread pool is not thread-safe and
+#: runs one parallel kernel at a time.  Renders take it themselves around each kernel call; it
+#: is re-entrant, so a caller may hold it around a whole :func:`tracer.render_with_stats`.
+PARALLEL_LOCK = threading.RLock()
+
+
+def spread_rows(rows):
+    """*rows* reordered so that every stretch of the list samples the whole set: sorted by the
+    bit-reversed position of each row (van der Corput order).  numba hands the tasks of a
+    parallel loop to its threads in contiguous stretches, so in the plain order a thread whose
+    stretch holds the bubbles would work while the other waits."""
+    n = rows.size
+    bits = max(1, int(n - 1).bit_length())
+    pos = np.arange(n, dtype=np.int64)
+    rev = np.zeros(n, dtype=np.int64)
+    for b in range(bits):
+        rev |= ((pos >> b) & 1) << (bits - 1 - b)
+    return rows[np.argsort(rev, kind="stable")]
+
+
+def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
+               spectrum=None, row0=0, stop=None):
+    """Render the rows *rows* into ``image[rows - row0]`` and ``counts[rows - row0]`` (and
+    ``spectrum[rows - row0]``, (rows, width, C), unless it is None: the kernel's per-band code is then pruned when numba compiles it).
+
+    The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
+    Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
+    threads to stop at their next ray, and raises ``KeyboardInterrupt`` (the partial image is
+    the caller's to discard).  *stop* (see :func:`_cancelled`) is polled the same way: when
+    it asks, the kernel is stopped likewise and :class:`RenderCancelled` raised.
+    """
+    import numba
+
+    if _cancelled(stop):  # between calls: stop before starting the next one
+        raise RenderCancelled("render cancelled")
+    cancel = np.zeros(1, dtype=np.int64)
+    failure = []
+    done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early
+
+    def work():
+        try:
+            with numba.parallel_chunksize(1):
+                render_rows(packed, spread_rows(rows), row0, ROWS_PER_TASK, width, height, spp, seed, depth,
+                            threshold, image, counts, spectrum, cancel)
+        except BaseException as exc:  # re-raised in the calling thread
+            failure.append(exc)
+        finally:
+            done.set()
+
+    with PARALLEL_LOCK:  # one parallel kernel at a time (numba's thread pool is shared)
+        worker = threading.Thread(target=work, name="tracer-render", daemon=True)
+        try:
+            worker.start()
+            while not done.wait(0.005 if stop is not None else 0.05):
+                if _cancelled(stop):
+                    raise RenderCancelled("render cancelled")
+        except BaseException:
+            cancel[0] = 1
+            # the kernel must have stopped before the next one starts: wait, whatever comes
+            while worker.ident is not None and not done.is_set():
+                try:
+                    done.wait(0.05)
+                except BaseException:
+                    continue
+            raise
+    if failure:
+        raise failure[0]
+
+
+def _interleaved(height, n_parts):
+    """The rows 0..height-1 split into *n_parts* interleaved sets (row r in part r % n_parts),
+    so that every part samples the whole image."""
+    return [np.arange(p, height, n_parts, dtype=np.int64) for p in range(n_parts)]
+
+
+def warm_up(packed: PackedScene):
+    """Compile (or load from numba's cache) the integrator for this scene on a 1x1 image."""
+    rows_call(packed, np.zeros(1, dtype=np.int64), 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
+               np.zeros((1, N_COUNTS), dtype=np.int64))
+
+
+def render_in_parts(packed: PackedScene, s, row0=0, row1=None, spectral_image=False, stop=None,
+                    call_seconds=CALL_SECONDS):
+    """Render rows ``[row0, row1)`` (default: every row) of the image of the packed scene
+    *packed* with the resolved settings *s* (:func:`tracer.rendering.api.resolve_settings`) here, on numba's
+    threads, in calls of about *call_seconds* each: a generator that yields ``(rows done,
+    rows in all, predicted seconds left)`` after each call and returns ``(image, counts,
+    spectrum)`` of ``row1 - row0`` rows (spectrum None unless *spectral_image*; take it with
+    ``yield from`` or from ``StopIteration.value``).
+
+    A first call on every 16th row measures the scene; the rest go in one call if short, else
+    in interleaved parts, so that every part refines the whole image.  Between two calls the
+    caller may do other work (the scene editor renders for several people in turns).  *stop*:
+    see :func:`rows_call` (:class:`RenderCancelled`).  The pixels do not depend on how the
+    rows were split."""
+    width, height, spp, seed, depth, threshold = (s[k] for k in ("width", "height", "spp", "seed", "depth",
+                                                                  "threshold"))
+    row1 = height if row1 is None else row1
+    n = row1 - row0
+    image = np.zeros((n, width, 3))
+    counts = np.zeros((n, N_COUNTS), dtype=np.int64)
+    spectrum = np.zeros((n, width, packed.rgb_basis.shape[0])) if spectral_image else None
+    t0 = time.perf_counter()
+    first = row0 + _interleaved(n, max(1, min(16, n), n // 64))[0]
+    rest = np.setdiff1d(np.arange(row0, row1, dtype=np.int64), first)
+    rows_call(packed, first, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0, stop)
+    predicted = (time.perf_counter() - t0) / first.size * rest.size
+    n_calls = max(1, min(rest.size, int(predicted / call_seconds))) if rest.size else 0
+    done = first.size
+    yield done, n, predicted
+    for part in range(n_calls):
+        rows = rest[part::n_calls]
+        rows_call(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0, stop)
+        done += rows.size
+        yield done, n, predicted * (n - done) / max(1, rest.size)
+    return image, counts, spectrum
+
+
+def render_here(packed: PackedScene, s, row0, row1, spectral_image, show, stop=None):
+    """:func:`render_in_parts` to the end, behind a progress bar when *show* and the render is
+    predicted to take over :data:`PROGRESS_AFTER`."""
+    parts = render_in_parts(packed, s, row0, row1, spectral_image, stop)
+    bar = None
+    try:
+        while True:
+            try:
+                done, total, left = next(parts)
+            except StopIteration as finished:
+                return finished.value
+            if bar is None and show and left > PROGRESS_AFTER:
+                from tqdm import tqdm
+
+                bar = tqdm(total=total, initial=done, unit="row", desc="render", leave=False, file=sys.stderr)
+            elif bar is not None:
+                bar.update(done - bar.n)
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def render_tile(packed: PackedScene, settings: dict, row0: int, row1: int, spectral_image=False):
+    """Rows ``[row0, row1)`` of the image of the packed scene *packed* with the resolved render
+    *settings* (:func:`tracer.rendering.api.resolve_settings`): ``(image, counts, spectrum)``, ``row1 - row0`` rows
+    of each, equal bit for bit to those rows of the whole image (every pixel depends only on
+    the scene, the settings and its own position).  The task a Dask worker runs for
+    ``tracer.render(..., client=...)`` (:mod:`tracer.rendering.dask`)."""
+    warm_up(packed)
+    return render_here(packed, settings, int(row0), int(row1), spectral_image, False)
+
+
