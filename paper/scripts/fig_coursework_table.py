@@ -38,7 +38,7 @@ def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
     coursework = load_coursework_table(paths.COURSEWORK_TABLE)
     timing = load_timing(paths.TIMING)
-    found = re.search(r"on an? (.+?) \(", " ".join(coursework["notes"]))  # as make_numbers' CourseworkMachine
+    found = re.search(r"on an? (.+?) \(", " ".join(coursework["notes"]))  # as numbers_coursework_fits.py's
     machine = found.group(1) if found else "its machine"
 
     fig = style.figure(height=2.7)

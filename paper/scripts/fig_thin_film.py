@@ -7,7 +7,7 @@ Top: exact (Airy) reflectance R of a free-standing water film in air (Daimon & M
 dispersion) at normal incidence, unpolarized, against thickness 0-1000 nm, at 450, 550 and
 650 nm (solid), with the coursework's two-beam model at 550 nm (dashed).  Below it, the
 two-beam model's error at 550 nm, its largest value marked (:func:`two_beam_gap`, which
-``make_numbers.py`` quotes as ``\\TwoBeamErrFig``).  Bottom: the reflected
+``numbers_physics.py`` quotes as ``\\TwoBeamErrFig``).  Bottom: the reflected
 colour under D65 for 0-2000 nm at 0° and 60°, each strip with the exposure that makes its
 brightest film white (×k).  Drawn with ``bubbleoptics.plotting``.  Quick mode: 5 nm steps in
 thickness and wavelength instead of 1 nm.

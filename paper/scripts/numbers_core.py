@@ -11,7 +11,7 @@
 
 from __future__ import annotations
 
-from make_numbers import _date, _machine, read_commented_csv, scientific, significant
+from macros import date_of, machine_of, read_commented_csv, scientific, significant
 
 #: (case, depth) of the throughput table, and its macro word
 CASES = {("empty", "10"): "Empty", ("coursework_1_bubble", "1"): "OneShallow", ("coursework_1_bubble", "10"): "OneDeep",
@@ -31,7 +31,7 @@ def spread(median, lo, hi, n=2):
 
 def core(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "throughput.csv")
-    out = {"CoreMachine": _machine(notes), "CoreDate": _date(notes)}
+    out = {"CoreMachine": machine_of(notes), "CoreDate": date_of(notes)}
     by = {(r["case"], r["depth"], r["threads"]): r for r in rows}
     for (case, depth), word in CASES.items():
         for t, tw in THREADS.items():
@@ -81,7 +81,7 @@ FURNACE = {"bubble": "Bubble", "thick_bubble": "Thick", "two_beam_bubble": "TwoB
 
 def energy(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "energy.csv")
-    out = {"EnergyDate": _date(notes)}
+    out = {"EnergyDate": date_of(notes)}
     furnace = [r for r in rows if r["case"] in FURNACE]
     if {r["case"] for r in furnace} != set(FURNACE):
         raise ValueError("a white-furnace case is missing")

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from make_numbers import WORDS, _date, _group, _machine, read_commented_csv, significant
+from macros import WORDS, date_of, group_digits, machine_of, plain, read_commented_csv, significant
 
 GOLDEN = (1 + 5**0.5) / 2
 LEVEL = 0.95
@@ -103,7 +103,8 @@ def _coursework_intervals(dirs, n_boot=N_BOOT):
 
 def branch(dirs):
     intervals = _coursework_intervals(dirs)
-    out = {"GoldenRatio": f"{GOLDEN:.3f}", "BranchLevel": significant(100 * LEVEL, 2), "BranchBoot": _group(str(N_BOOT))}
+    out = {"GoldenRatio": f"{GOLDEN:.3f}", "BranchLevel": significant(100 * LEVEL, 2),
+           "BranchBoot": group_digits(str(N_BOOT))}
     diffs = []
     for nb, word in WORDS.items():
         ci = intervals[nb]
@@ -130,7 +131,7 @@ def rays(dirs):
 
     data = load_rays(dirs["derived"] / "coursework_rays.csv")
     notes = data["notes"]
-    out = {"RaysMachine": _machine(notes), "RaysDate": _date(notes),
+    out = {"RaysMachine": machine_of(notes), "RaysDate": date_of(notes),
            "RaysWidth": str(int(data["width"][0])), "RaysRepeats": str(data["seconds_runs"].shape[1])}
     for which in ("before", "after"):
         value = _load(notes, which)
@@ -147,7 +148,7 @@ def rays(dirs):
         two_late += list(br[depth >= 7])
         out[f"RaysTwoBranchTen{word}"] = f"{br[depth == 10][0]:.3f}"
         _, level = rays_series(data, "two spheres", nb)
-        out[f"RaysTwoLevelTen{word}"] = _group(str(int(level[-1])))
+        out[f"RaysTwoLevelTen{word}"] = group_digits(str(int(level[-1])))
         _, total = rays_series(data, "two spheres", nb, "rays_total")
         out[f"RaysTwoTotalGrowth{word}"] = significant(total[-1] / total[0], 2)
         _, thin_total = rays_series(data, "thin film", nb, "rays_total")
@@ -178,8 +179,6 @@ def rays(dirs):
 
 def two_sphere_scene(dirs):
     """The two-sphere bubble's radii and index, from its scene file."""
-    from make_numbers import plain
-
     import tracer
 
     scene = tracer.load_scene(dirs["data"] / "scenes" / "coursework_two_sphere_one_bubble.txt")
@@ -216,7 +215,7 @@ def throughput(dirs):
     if not values:
         raise ValueError("no coursework rows with speedup_1_to_2_threads")
     return {"ThroughputSpeedupMin": significant(min(values), 2, 2), "ThroughputSpeedupMax": significant(max(values), 2, 2),
-            "ThroughputDate": _date(notes)}
+            "ThroughputDate": date_of(notes)}
 
 
 SECTIONS["courseworkthroughput"] = (["derived/throughput.csv"], throughput,

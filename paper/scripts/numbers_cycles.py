@@ -7,7 +7,7 @@ every number n/a.
 
 import re
 
-from make_numbers import _date, read_commented_csv, significant
+from macros import date_of, read_commented_csv, significant
 
 THICKNESS_WORDS = {10.0: "Ten", 200.0: "TwoHundred", 400.0: "FourHundred", 800.0: "EightHundred"}
 
@@ -50,7 +50,7 @@ def _f(row, column):
 def cycles(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "peer_cycles.csv")
     text = " ".join(notes)
-    out = {"CyclesDate": _date(notes)}
+    out = {"CyclesDate": date_of(notes)}
     for name, pattern in (("CyclesVersion", r"Blender (\d+(?:\.\d+)+)"), ("CyclesSize", r"(\d+)x\1, box"),
                           ("CyclesRefBands", r"ours spectral (\d+) bands"), ("CyclesRefSpp", r"\), (\d+) spp, mean"),
                           ("CyclesSpp", r"mean of two seeds at (\d+) spp"),

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import re
 
-from make_numbers import _date, _machine, read_commented_csv, significant
+from macros import date_of, machine_of, read_commented_csv, significant
 
 
 def _ms(x):
@@ -26,7 +26,7 @@ def _ms(x):
 def editor(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "editor.csv")
     by = {r["case"]: r for r in rows}
-    out = {"EdDate": _date(notes), "EdMachine": _machine(notes)}
+    out = {"EdDate": date_of(notes), "EdMachine": machine_of(notes)}
     for key, case in (("Preview", "first_preview"), ("Full", "full_resolution"), ("Clear", "clear_no_render")):
         r = by[case]
         out[f"Ed{key}Ms"] = _ms(r["ms_median"])

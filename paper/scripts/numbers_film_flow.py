@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import re
 
-from make_numbers import _date, _machine, read_commented_csv, scientific, significant
+from macros import date_of, machine_of, read_commented_csv, scientific, significant
 
 
 def _grid_tex(grid):
@@ -38,7 +38,7 @@ def validation(dirs):
     notes, rows = read_commented_csv(dirs["derived"] / "film_flow_validation.csv")
     if any("QUICK MODE" in n for n in notes):
         raise ValueError("film_flow_validation.csv was written in quick mode")
-    out = {"FfValidDate": _date(notes), "FfValidMachine": _machine(notes)}
+    out = {"FfValidDate": date_of(notes), "FfValidMachine": machine_of(notes)}
     apex = _series(rows, "apex", "max_relative_error")
     prof = _series(rows, "profile", "max_abs_error_h_over_h0")
     eq = _series(rows, "equilibrium", "max_relative_error")
@@ -125,7 +125,7 @@ def speed(dirs):
     rigid = row("rigid_drainage", grid, 1)
     load = re.search(r"load average ([0-9.]+) at the start, ([0-9.]+) at the end", notes[0])
     out = {
-        "FfSpeedDate": _date(notes), "FfSpeedMachine": _machine(notes),
+        "FfSpeedDate": date_of(notes), "FfSpeedMachine": machine_of(notes),
         "FfTargetGrid": _grid_tex(grid), "FfTargetSteps": significant(goal, 3),
         "FfStepMs": significant(1e3 * float(one["step_seconds_median"]), 2),
         "FfStepMsMin": significant(1e3 * float(one["step_seconds_min"]), 2),

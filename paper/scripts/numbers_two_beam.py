@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from make_numbers import _thick_film_range_um, plain, read_commented_csv, significant
+from macros import plain, read_commented_csv, significant, thick_film_range_um
 
 SCENE_WORDS = {"builtin": "Builtin", "bubbles": "Bubbles", "thick": "Thick"}
 STATS = {"bubble_mean_de00": "Mean", "bubble_median_de00": "Median", "bubble_p95_de00": "Pninetyfive",
@@ -38,7 +38,7 @@ def two_beam_renders(dirs):
     if any(int(r["spectral_samples"]) != int(first["spectral_samples"]) or int(r["width"]) != int(first["width"])
            for r in by.values()):
         raise ValueError("the scenes were rendered with different settings")
-    lo, hi = _thick_film_range_um(dirs["data"] / "scenes" / "thick_films.toml")
+    lo, hi = thick_film_range_um(dirs["data"] / "scenes" / "thick_films.toml")
     out["TbRThickFromUm"], out["TbRThickToUm"] = plain(lo), plain(hi)
     m = re.search(r"on (\d{4}-\d{2}-\d{2})", notes[0])
     out["TbRDate"] = m.group(1) if m else r"\NumberNA{}"
