@@ -1,4 +1,4 @@
-"""Speed of the film-flow simulation (issue 11): time a step on three grids, both models.
+"""Speed of the film-flow simulation: time a step on three grids, both models.
 
 Run:  python benchmarks/film_flow.py [--repeats N] [--quick] [--out PATH]
 Writes ``data/derived/film_flow.csv``.

@@ -1,4 +1,4 @@
-"""The film-flow simulation's validation figures, the black-film time and a few rendered frames (issue 13).
+"""The film-flow simulation's validation figures, the black-film time and a few rendered frames.
 
 Run:  python benchmarks/film_flow_validation.py [--quick] [--out PATH]
 Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) and
@@ -52,7 +52,7 @@ from study import provenance, write_csv
 from study.film_flow import STILL, plug_equilibrium_error, plug_transient_differences, rigid_characteristics_profile
 
 OUT = ROOT / "data" / "derived" / "film_flow_validation.csv"
-BLACK_NM = 30.0  # "black film": thinner than this (issue 11, as notebook 07)
+BLACK_NM = 30.0  # "black film": thinner than this (as notebook 07)
 BLACK_GRID, BLACK_DT = (128, 256), 0.01
 FRAME_SIZE = 200
 FRAME_OFFSETS = (-16.0, -8.0, 0.0, 4.0)  # s, around the apex's black-film time

@@ -22,9 +22,9 @@ Per run: wall time from starting the child to its exit (:func:`time.perf_counter
 not ``RUSAGE_CHILDREN``, which is the maximum over every child so far), and for the first renders
 the size of the cache directory afterwards.  The repeats interleave the cases, so that a burst of
 other work on the shared machine disturbs one run of each case rather than every run of one.
-Reported: median, min and max; the issue's targets (first render of the built-in scene <= 20 s and
-<= 600 MB, of a sphere-only scene <= 8 s, a warm fresh process <= 1.5 s) beside them.  One repeat
-of the three cases takes about 4 minutes before the renderer compiles only what a scene uses.
+Reported: median, min and max; the targets (first render of the built-in scene <= 20 s and
+<= 600 MB, of a sphere-only scene <= 8 s, a warm fresh process <= 1.5 s) beside them.  A repeat
+of the three cases takes minutes (two of its runs compile the kernels).
 """
 
 import os

@@ -192,8 +192,7 @@ def mitsuba_environment(mi, image, folder, orientation="matched"):
     (0.09 degrees) apart, at the poles.
 
     *orientation*: ``"matched"``, or one of the wrong ones of the orientation check:
-    ``"mirrored"`` (the image mirrored left-right: the convention this tracer had before
-    issue 9), ``"rotated_90"`` and ``"rotated_-90"`` (rotated about y).
+    ``"mirrored"`` (the image mirrored left-right), ``"rotated_90"`` and ``"rotated_-90"`` (rotated about y).
     """
     mirrored = orientation == "mirrored"
     angle = {"matched": 0.0, "mirrored": 0.0, "rotated_90": 90.0, "rotated_-90": -90.0}[orientation]

@@ -112,9 +112,10 @@ def point_sampling_limit_nm(n_bands, wavelength_nm=400.0, theta=0.0, n_film=None
     is half of it.  Short wavelengths alias first, hence the default of 400 nm, where the CIE
     colour matching functions still matter.
 
-    Measured (``benchmarks/stability.py``, water at normal incidence): with 16 bands this is
-    2.27 µm, and the colour error of point sampling (1 µm running median of ΔE00 against the
-    1 nm colour) passes 5 at 1.72 µm.
+    Water at normal incidence with 16 bands: 2.27 µm.  The colour error of point sampling (1 µm
+    running median of ΔE00 against the 1 nm colour) passes 5 below it, at the onset that
+    ``benchmarks/stability.py`` measures (``data/derived/stability_aliasing.csv``,
+    ``onset_measured_nm``).
 
     Parameters
     ----------

@@ -232,7 +232,7 @@ _S11, _S13, _S15, _S17 = -1 / 39916800, 1 / 6227020800, -1 / 1307674368000, 1 / 
 def sin2_cos2_nb(beta):
     """(sin²β, cos²β) for 0 <= β <= :data:`BETA_POLY_MAX`, without branches.
 
-    Why by hand: numba calls libm's scalar sin and cos (about 20 ns each here) and, since it
+    Why by hand: numba calls libm's scalar sin and cos (a function call each) and, since it
     dropped SVML, cannot vectorize them; this straight-line version lets LLVM vectorize the
     thickness loop.  Reduction β = kπ/2 + r with the three-part π/2 above (error in r below
     1 ulp of r plus 1e-27), the Taylor polynomial of sin r on |r| <= π/4, cos²r = 1 - sin²r
@@ -757,7 +757,7 @@ def water_index_array(wavelength):
 # --------------------------------------------------------------------------------------------
 # Written here (rather than calling colour-science's cctf_encoding / cctf_decoding) so that
 # saving a render needs neither colour-science's import (seconds) nor NumPy's elementwise
-# temporaries (a 960x960 image took 0.3 s): the array kernels are one parallel pass.  They
+# temporaries (several passes over the image): the array kernels are one parallel pass.  They
 # follow colour-science's eotf_inverse_sRGB and eotf_sRGB operation for operation with the C
 # library's pow; NumPy's vectorised power, which colour-science calls, can differ from it by an
 # ulp (tests/test_colorimetry.py: to the bit against the formula, 1e-15 against colour-science).

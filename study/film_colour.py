@@ -28,8 +28,7 @@ Terms m >= 2 whose m OPD lies beyond the table are dropped; they carry at most 2
 white.  The film index is the constant n = 1.33: one table in OPD cannot hold a
 wavelength-dependent index, so the table ignores dispersion by construction.
 
-What this is: the approach the project's issue attributes to Blender 5.0 ("its lookup table
-ignores dispersion"), rebuilt here with the exact integral; *not* Blender's table, which is coarser.
+What this is: the approach attributed to Blender 5.0 ("its lookup table ignores dispersion"), rebuilt here with the exact integral; *not* Blender's table, which is coarser.
 
 **The Blender-like table** (:func:`blender_like_table`).  A reconstruction from the parameters of
 Blender's published source, not Blender run: the files were read in a stored code index (no code,
@@ -71,7 +70,7 @@ Versions: two revisions of that kernel and start-up code were found.  One stores
 each RGB channel's magnitude and unwrapped phase (entry = magnitude x cos(phase - m phi)); a later
 one, which also handles conductor substrates, stores and interpolates real and imaginary parts.
 The default follows the later; ``polar=True`` (:func:`lut_sensitivity`) the earlier.  Which
-release ships which was not checked: the project's issue says Blender 5.0, a third-party port of
+release ships which was not checked: it is attributed to Blender 5.0, a third-party port of
 the later revision says it follows Blender 5.2 (Cycles 5.2.1); and the index did not name the
 repository of the ``shader.cpp`` and ``bsdf_util.h`` revisions that hold the thin film (found by
 their text; blender/blender's own stored copies under those paths predate it).  Not modelled (not

@@ -1,4 +1,4 @@
-"""Small analyses of living films (issue 11) shared by ``notebooks/07_film_flow.ipynb`` and its test.
+"""Small analyses of living films shared by ``notebooks/07_film_flow.ipynb`` and its test.
 
 * :func:`film_luminance`: the luminance (CIE Y, a perfect reflector = 1) a free-standing film
   reflects, from the exact spectrum (:func:`bubbleoptics.film_reflectance`);

@@ -12,8 +12,8 @@ Every reader (the paper's scripts, the notebooks, the benchmarks themselves) goe
 :func:`rows_to_columns` rows computed in memory).  A file
 without comment lines reads the same way.
 
-Byte layout, kept from the scripts' earlier private writers so that regenerated files differ from
-the committed ones only in their numbers and date: comment lines end in ``\\n``, the header and
+Byte layout, fixed so that regenerated files differ from the committed ones only in their
+numbers and date: comment lines end in ``\\n``, the header and
 rows in *lineterminator* (``\\r\\n``, the :mod:`csv` default, unless a script asks for ``\\n``).
 
 Nothing here knows where the repository's files are: every function takes its path.

@@ -31,9 +31,9 @@ keyword arguments of ``tracer.render_with_stats``.
   all meet the same object first: :func:`pixel_hits`, :func:`silhouette_mask`) or where the two
   references differ by :data:`AA_DE00` (1 ΔE00) or more (a sub-pixel feature inside an object:
   a reflected edge, a highlight, fringes finer than a pixel).  Neither test looks at a
-  pixel-centre render, so the mask favours no sampling pattern; the earlier mask (where a 1-spp
-  render of the reference's transport differed from the reference) kept exactly the pixels
-  where the pixel centre is a good estimate and so favoured every 1-spp setting over 4 spp.
+  pixel-centre render, so the mask favours no sampling pattern (a mask of where a 1-spp render
+  of the reference's transport differs from the reference would keep exactly the pixels where
+  the pixel centre is a good estimate, and so favour every 1-spp setting over 4 spp).
   (A plain edge detector on the reference's colours, :func:`contrast_mask`, would also discard
   the films' interference fringes, i.e. most of each bubble.)
 * **Bubble pixels** (:func:`bubble_mask`): pixels all of whose sub-pixel camera rays meet a

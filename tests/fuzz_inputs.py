@@ -1,6 +1,6 @@
 """A seeded mutator of scene files and command lines, and the contract every case must keep.
 
-Used by ``tests/test_fuzz.py`` (a bounded run in the suite) and runnable on its own for a long
+Used by ``tests/test_hardening.py`` (``test_fuzz_contract``, a bounded run in the suite) and runnable on its own for a long
 hunt::
 
     python tests/fuzz_inputs.py --cases 1500 --seed 7

@@ -132,7 +132,7 @@ def test_water_dispersion_matters_at_oblique_incidence():
     """colour-science 0.4.7's thin_film_tmm takes refraction angles from the first wavelength.
 
     We agree with tmm per wavelength (tests/test_reference_tmm.py); here we record that the
-    discrepancy the issue quotes (up to ~0.009 in R) is real and caused by dispersion, so that
+    discrepancy against it (up to ~0.009 in R) is real and caused by dispersion, so that
     a future colour-science fix shows up as this test failing loudly rather than silently.
     """
     from colour.phenomena import thin_film_tmm

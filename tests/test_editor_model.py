@@ -214,7 +214,7 @@ def test_tracer_edit_serves_and_stops_cleanly_on_ctrl_c():
 
 def test_picking_while_the_preview_renders_is_safe():
     """numba's workqueue pool is not thread-safe: a pick (packing, spectra: parallel kernels)
-    while the preview renders in its thread must wait for it (tracer.render.PARALLEL_LOCK), not
+    while the preview renders in its thread must wait for it (tracer.rendering.local.PARALLEL_LOCK), not
     run beside it."""
     scene = tracer.default_scene()
     done = threading.Event()

@@ -47,7 +47,7 @@ FILMS = [FilmProfile("uniform", thickness_nm=d) for d in (0.0, 5.0, 120.0, 450.0
 def test_lossless_bubble_vanishes_in_uniform_light_at_default_settings(film):
     """Lossless bubbles from 0 nm to 20 um, uniform and draining, at the default depth (10),
     pruning (1e-3), bands (16) and film method (auto: band-averaged beyond 1.5 um): every pixel
-    equals the background (the issue asks 1e-3; the estimator is exact, so 1e-9 here) and no
+    equals the background (to 1e-9: the estimator is exact) and no
     pixel is brighter than it."""
     scene = one_bubble(film)
     img = tracer.render(scene, **SMALL)

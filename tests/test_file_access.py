@@ -113,7 +113,7 @@ def test_assets_of_a_confined_scene_stay_inside_the_root(tree):
         (root / "a.toml").write_text(SCENE + f'[environment]\nkind = "image"\npath = "{path}"\n', encoding="utf-8")
         with pytest.raises(SceneError, match=r"a\.toml:\d+: environment\.path: .*outside the folder"):
             load_scene(root / "a.toml", access)
-        assert load_scene(root / "a.toml").environment.image.shape == (2, 4, 3)  # unconfined: as before
+        assert load_scene(root / "a.toml").environment.image.shape == (2, 4, 3)  # unconfined: read from anywhere
     (root / "a.toml").write_text(SCENE + '[environment]\nkind = "image"\npath = "env.npy"\n', encoding="utf-8")
     assert load_scene("a.toml", access).environment.image.shape == (2, 4, 3)
 

@@ -1,4 +1,4 @@
-"""The film-flow models (issue 11): analytic laws, conservation, stability, the slow reference, the API."""
+"""The film-flow models: analytic laws, conservation, stability, the slow reference, the API."""
 
 import math
 

@@ -37,14 +37,14 @@ def _run(args, capsys):
 
 
 @pytest.mark.parametrize("options, words", [
-    (["--depth", "9223372036854775807"], ["--depth", "from 1 to 1000"]),  # was a segmentation fault
-    (["--depth", "100000000"], ["--depth", "from 1 to 1000"]),  # was an all-black image, exit 0
-    (["--width", "1e9"], ["--width", "from 1 to 65535"]),  # was a MemoryError traceback
+    (["--depth", "9223372036854775807"], ["--depth", "from 1 to 1000"]),  # unchecked: a segmentation fault
+    (["--depth", "100000000"], ["--depth", "from 1 to 1000"]),  # unchecked: an all-black image, exit 0
+    (["--width", "1e9"], ["--width", "from 1 to 65535"]),  # unchecked: a MemoryError traceback
     (["--height", "0"], ["--height", "from 1 to 65535"]),
-    (["--seed", str(2**64)], ["--seed", "from 0 to 9223372036854775807"]),  # was an OverflowError
+    (["--seed", str(2**64)], ["--seed", "from 0 to 9223372036854775807"]),  # unchecked: an OverflowError
     (["--spectral-samples", "100000000"], ["--spectral-samples", "from 1 to 421"]),
-    (["--spectral-samples", "422"], ["--spectral-samples", "from 1 to 421"]),  # was "SVD did not converge"
-    (["--spp", "1000000000"], ["--spp", "from 1 to 65536"]),  # ran unbounded
+    (["--spectral-samples", "422"], ["--spectral-samples", "from 1 to 421"]),  # unchecked: "SVD did not converge"
+    (["--spp", "1000000000"], ["--spp", "from 1 to 65536"]),  # unchecked: runs unbounded
     (["--width", "３００"], ["--width", "'３００'"]),  # fullwidth digits are not a number here
     (["--threshold", "nan"], ["--threshold", "finite"]),
     (["--threshold", "0", "--depth", "30"], ["--depth", f"at most {MAX_EXHAUSTIVE_DEPTH}", "--threshold"]),
@@ -99,7 +99,7 @@ def test_memory_is_refused_up_front_with_the_estimate():
 
 
 def test_render_takes_its_settings_from_the_scene_render_table():
-    # the issue: render(load_scene(...)) ignored the file's [render] table
+    # render(load_scene(...)) uses the file's [render] table
     scene = load_scene(SCENES / "bubbles_sky.toml")
     assert scene.render_defaults["width"] == 640
     scene.render_defaults.update(width=12, height=7, spp=1)
@@ -153,7 +153,7 @@ def test_coursework_numbers_are_ascii_and_long_tokens_are_cut(tmp_path, capsys, 
 
 
 def test_a_tiny_direction_is_a_direction(tmp_path):
-    # up = [0, 1e-300, 0] used to fail "zero-length direction vector" (its length underflows)
+    # up = [0, 1e-300, 0] is not "a zero-length direction vector", though its length underflows
     text = (SCENES / "bubbles_sky.toml").read_text()
     scene = tmp_path / "s.toml"
     scene.write_text(text.replace("up = [0.0, 1.0, 0.0]", "up = [0.0, 1e-300, 0.0]"))

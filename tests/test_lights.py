@@ -526,7 +526,7 @@ def test_lights_round_trip_through_the_toml_writer(tmp_path):
     path.write_text(text, encoding="utf-8")
     back = load_toml_scene(path)
     assert back.lights == scene.lights
-    # a point light is written as before: no falloff, radius or samples keys
+    # a point light is written as a coursework light: no falloff, radius or samples keys
     plain = Scene(spheres=[Sphere((0, 0, 0), 1.0)], lights=[PointLight((0.0, 5.0, 0.0), 0.5)])
     lights_text = scene_to_toml_text(plain).split("[[lights]]")[1]
     assert not any(key in lights_text for key in ("falloff", "radius", "samples"))

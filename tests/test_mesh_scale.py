@@ -1,8 +1,8 @@
 """Meshes at scale: face orientation without dense matrices (:mod:`tracer.prepare.meshes`), vertex
 welding and normals, and packing a mesh of a few hundred thousand triangles.
 
-reference: :func:`literal_rule` below is the coursework's orientation rule written out as
-the tracer had it before (every vertex against every face plane, a V x F matrix), used on small
+reference: :func:`literal_rule` below is the coursework's orientation rule written out
+literally (every vertex against every face plane, a V x F matrix), used on small
 meshes only; trimesh's ``weighted_vertex_normals`` for the computed vertex normals.
 property: many random convex and non-convex meshes.  api: packing 200k+ triangles works in
 bounded memory (no V x F matrix).  No test here measures time.
@@ -216,7 +216,7 @@ def test_corner_normals_are_unit_and_on_the_side_of_the_face():
 def test_packing_a_200k_triangle_mesh_needs_no_dense_matrix(shape):
     """A convex mesh (every face turned outward) and a non-convex one (winding kept) of about
     200k triangles pack; NumPy's peak allocation stays within a few hundred bytes per triangle
-    (the old V x F test needed 160 GB here)."""
+    (a V x F matrix of float64 would be 160 GB here)."""
     import trimesh
 
     import tracer

@@ -1,4 +1,4 @@
-"""Movies (issue 10): the commands file, the Timeline's interpolation, ``tracer movie``/``film``,
+"""Movies: the commands file, the Timeline's interpolation, ``tracer movie``/``film``,
 the frame cache, the encoders, and frames rendered on a Dask cluster.
 
 Renders are tiny (a few pixels, depth 2) so the file runs in seconds once the kernels are in

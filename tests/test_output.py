@@ -1,7 +1,7 @@
 """The outputs (tracer.rendering.output): display settings, float files, the spectral image, output checks.
 
-* Display: at exposure 0 with the ``clip`` view a PNG is byte for byte what the writer wrote
-  before this module existed (that recipe is written out here), and its codes are NumPy's
+* Display: at exposure 0 with the ``clip`` view a PNG is byte for byte the plain recipe written
+  out here (the sRGB codes of the whole image, one Pillow or pypng write), and its codes are NumPy's
   rounding of colour-science's sRGB encoding; exposure is a factor 2**stops; the ``aces`` view
   is OpenColorIO's own ACES 2.0 output transform (compared with OpenColorIO called here by
   another route), monotone, 0 at 0 and saturating at 1.
@@ -72,8 +72,7 @@ def test_clip_at_exposure_0_is_the_earlier_png_byte_for_byte(tmp_path, small_chu
     from bubbleoptics.kernels import srgb_encode_quantized_array
 
     image = test_image()
-    # the writer as it was (tracer/rendering/api.py before tracer/rendering/output.py): codes of the whole image,
-    # Pillow from the whole array, zlib level 3
+    # the plain recipe: codes of the whole image, Pillow from the whole array, zlib level 3
     codes = np.empty(image.size, np.uint8)
     srgb_encode_quantized_array(image.ravel(), 255.0, codes)
     Image.fromarray(codes.reshape(image.shape), mode="RGB").save(tmp_path / "old.png", format="PNG", compress_level=3)

@@ -1,4 +1,4 @@
-"""Living films: the thickness of a soap film on a bubble evolving from physics (issue 11).
+"""Living films: the thickness of a soap film on a bubble evolving from physics.
 
 Two models behind one interface, SI units inside, the thickness series in nm:
 

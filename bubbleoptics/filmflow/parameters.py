@@ -10,7 +10,7 @@ References (keys used in the docstrings)
   for publication", the repository's last): radius 0.05 m, H = 1 µm, Gammam 1e-6 mol m⁻²,
   ρ = 1000 kg m⁻³, evaporation 3e-8 m s⁻¹.  Its earlier commits 40b78f1 and c772208 had
   radius 0.04 m, Gammam 1.5e-7, ρ = 997 and evaporation 8e-8 and 8e-9; the 4 cm radius here is
-  that of those commits (and of issue 11), the other constants the publication's.
+  that of those commits, the other constants the publication's.
 * [IAPWS2008] IAPWS, Release on the IAPWS Formulation 2008 for the viscosity of ordinary water
   substance: 1.0016 mPa s at 20 °C, 0.1 MPa.
 * [CODATA2014] P. J. Mohr et al., CODATA recommended values 2014: R = 8.3144598 J mol⁻¹ K⁻¹.
@@ -44,7 +44,7 @@ class FilmParameters:
     Fields
     ------
     radius : bubble radius R in m.  Default 0.04 m, the radius of [Huang2020]'s
-        configuration as summarised in issue 11 (the released ``config.txt`` has 0.05 m).
+        commits 40b78f1 and c772208 (the released ``config.txt`` has 0.05 m).
     h0 : mean initial film thickness :math:`h_0` in m.  Default 2e-6 m: twice the
         half-thickness H = 1 µm of [Huang2020] ``config.txt``.
     viscosity : dynamic viscosity μ of the film liquid in Pa s, used by the rigid-interface

@@ -1,4 +1,4 @@
-"""The scene editor (issue 12): the coursework's Qt window, in a notebook and in the browser.
+"""The scene editor: the coursework's Qt window, in a notebook and in the browser.
 
 ``tracer.editor(scene)`` returns the Panel app for a notebook cell; ``tracer edit [SCENE]``
 serves it as a page (``docs/editor.md``).  :mod:`tracer.editor.model` is the scene and its

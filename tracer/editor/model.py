@@ -54,7 +54,7 @@ class FieldError(ValueError):
         self.field = field
 
 
-# field: (number of values, lowest, highest, lowest excluded), as movie_commands' tables
+# field: (number of values, lowest, highest, lowest excluded), as tracer.movie.commands' field tables
 _ANY = (1, -MAX_MAGNITUDE, MAX_MAGNITUDE, False)
 #: Every numeric field of the editor's forms and its allowed range: the optical parameters
 #: are the commands file's (:data:`tracer.movie.commands.PHONG_FIELDS`, ``BUBBLE_FIELDS``).

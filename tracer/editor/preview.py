@@ -3,7 +3,7 @@ seen at a picked pixel.
 
 :class:`PreviewRenderer` renders every request first at a sixth of the width and height
 (1/36 of the pixels), then at full resolution, handing each stage to a callback; a newer request
-cancels the render in progress (the kernel's ``stop``: :func:`tracer.render.render_in_parts`) so
+cancels the render in progress (the kernel's ``stop``: :func:`tracer.rendering.local.render_in_parts`) so
 that the person always waits for the latest edit only.  The renders of every editor in the
 process take turns in one thread (:mod:`tracer.editor.scheduler`).
 

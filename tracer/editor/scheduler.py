@@ -3,7 +3,7 @@
 Every render the editor starts (the two stages of a preview, a picked pixel's film, the
 warm-up) is a *job*: a generator that does one short step of work each time it is resumed (a
 preview stage, or a part of the full image's rows of about :data:`STEP_SECONDS`; see
-:func:`tracer.render.render_in_parts`) and yields its priority for the next step,
+:func:`tracer.rendering.local.render_in_parts`) and yields its priority for the next step,
 :data:`INTERACTIVE` (a first preview, a picked pixel: a person is waiting) or
 :data:`BACKGROUND` (the full image, refining).  One thread runs the jobs a step at a time:
 always an interactive step before a background one, and among equals the owner served least
@@ -16,7 +16,7 @@ owner's.  A cancelled job's running step stops at its next ray (its ``cancel`` e
 kernel's ``stop``), so a cancel takes effect within milliseconds.
 
 The parallel kernels are numba's, whose thread pool runs one kernel at a time; running every
-editor render in this one thread (and each step under :data:`tracer.render.PARALLEL_LOCK`)
+editor render in this one thread (and each step under :data:`tracer.rendering.local.PARALLEL_LOCK`)
 keeps them from meeting.
 """
 

@@ -6,5 +6,5 @@ knows a :class:`tracer.scene.Scene`).
 * :mod:`.surfaces` -- one module per surface model (:mod:`.surfaces.soap_film`, :mod:`.surfaces.phong`);
 * :mod:`.geometry` (intersections), :mod:`.sampling` (camera rays, random numbers),
   :mod:`.environment` (the background), :mod:`.thickness` (a film's thickness at a point);
-* :mod:`._jit` -- the numba options every kernel is compiled with.
+* the numba options every kernel is compiled with are :mod:`bubbleoptics.jit`'s.
 """

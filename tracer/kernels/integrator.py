@@ -74,7 +74,7 @@ __all__ = [
 #: The per-ray functions are compiled without numba's reference counting (``_nrt=False``): they
 #: allocate nothing and only read arrays their caller keeps alive, and with it every read of an
 #: array field of the scene or the workspace costs a call to NRT_incref and NRT_decref, which
-#: made a ray 5-8 times slower (docs/performance.md).
+#: would be most of a ray's time (docs/performance.md says how that is measured).
 
 GEOM_NONE = 0
 GEOM_SPHERE = 1
@@ -479,7 +479,7 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
             if lt.radius > 0.0:
                 sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold)
                 continue
-            scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" is as before
+            scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" leaves it unchanged
             if lt.falloff == FALLOFF_INVERSE_SQUARE:
                 r2 = (lpos[0] - p[0]) ** 2 + (lpos[1] - p[1]) ** 2 + (lpos[2] - p[2]) ** 2
                 if not r2 > _R2_MIN:
@@ -588,14 +588,14 @@ def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, dept
     ``row0 + image.shape[0] - 1``) of the (height, width) image into ``image`` (rows, width, 3:
     linear sRGB; image row *y* at ``image[y - row0]``) and their ray counts into ``counts``
     (rows, N_COUNTS).  A whole image is ``row0 = 0`` with arrays of *height* rows; a tile of
-    rows ``[row0, row0 + n)`` (:func:`tracer.render.render_tile`) has arrays of n rows.
+    rows ``[row0, row0 + n)`` (:func:`tracer.rendering.local.render_tile`) has arrays of n rows.
 
     *spectrum*: an array (rows, width, C) float64, C the scene's channels
     (``scene.rgb_basis.shape[0]``), into which each pixel's mean radiance per channel is
     written as well (the RGB pixel is ``scene.to_rgb`` times it, up to rounding), or None.
     numba compiles the two separately and prunes the per-channel code from the None one, so
-    the RGB-only render is the code it was before (a run-time test instead cost the
-    coursework's three bubbles at depth 1 about 5 % against an A/A difference of 0.1 %);
+    the RGB-only render carries no per-channel code (a run-time test instead would cost every
+    RGB render a measurable share on the coursework's small scenes, ``benchmarks/throughput.py``);
     the first per-channel render after installing compiles its own variant.
 
     ``cancel`` (1,) int64: every thread stops at its next ray once ``cancel[0]`` is non-zero

@@ -39,7 +39,7 @@ def film_thickness(f, maps, n):
         d = f.thickness_nm
     elif f.profile == PROFILE_DRAINING:
         z = min(1.0, max(0.0, 0.5 * (1.0 - cos_t)))
-        zp = math.sqrt(z) if f.exponent == 0.5 else z**f.exponent  # sqrt: the common law, 4x cheaper
+        zp = math.sqrt(z) if f.exponent == 0.5 else z**f.exponent  # sqrt: the common law, cheaper than the power
         d = f.top_nm + (f.bottom_nm - f.top_nm) * zp
     else:
         nt = f.map_rows

@@ -630,7 +630,7 @@ class Timeline:
         """An iterator of the :class:`Frame` of every image, each made when it is asked for (a
         movie of a million frames starts rendering at once, and holds one frame at a time),
         with a copy of *settings* (resolved render settings, e.g. from
-        :func:`tracer.render.resolve_settings`; None: the scene's defaults), of *display*
+        :func:`tracer.rendering.api.resolve_settings`; None: the scene's defaults), of *display*
         (``exposure`` and ``view``; None: 0 and ``"clip"``) and the flag *spectral*. ValueError
         (at once, not at the first frame) if changes were made after the last :meth:`render`."""
         if self._pending:

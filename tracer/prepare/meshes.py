@@ -44,8 +44,8 @@ over the faces; :func:`orient_faces`):
 Why not a library: ``trimesh.Trimesh.is_convex`` decides from the edges too, but only for a
 watertight mesh in one body with a consistent winding (the coursework's files have none of
 these guaranteed, and the rule asks for none), and scipy's ``ConvexHull`` (Qhull), which would decide the
-rule through the hull's facets, takes seconds to tens of seconds when every vertex is on the
-hull, as on any finely tessellated convex object (``docs/performance.md``).
+rule through the hull's facets, is many times slower than these tests when every vertex is on
+the hull, as on any finely tessellated convex object (``docs/performance.md``).
 
 Shading normals
 ---------------
@@ -408,8 +408,8 @@ def computed_vertex_normals(vertices, faces, normals, weld=None):
     is smoothed across; unit length, zero where no face is used.
 
     The same weights as ``trimesh.geometry.weighted_vertex_normals`` (which the tests compare
-    with), in one numba pass over the faces: trimesh's arrays and sparse matrix took 1.7 s and
-    several hundred MB for a million faces.  Corner angles by ``atan2(|a x b|, a . b)``, which
+    with), in one numba pass over the faces, without trimesh's temporary arrays and sparse matrix
+    (several times slower and larger at a million faces; ``docs/performance.md``).  Corner angles by ``atan2(|a x b|, a . b)``, which
     keeps its precision at small and large angles.
     """
     v = np.ascontiguousarray(vertices, dtype=np.float64)
@@ -518,7 +518,7 @@ def triangle_records(order, normals, corners, material, smooth, surface):
     """The :data:`tracer.kernels.records.TRIANGLE` records of triangles ``order[k]`` (the BVH's order):
     unit *normals* (T, 3), *corners* (T, 3, 3) the corner normals of the triangles with
     ``smooth`` (T,) bool (any array when none is smooth), *material* (T,) int64 and one
-    *surface* kind.  One numba pass (NumPy gathers records field by field, three times slower)."""
+    *surface* kind.  One numba pass (NumPy would gather the records field by field, a slower pass per field)."""
     from ..kernels.records import TRIANGLE
 
     out = np.zeros(len(order), TRIANGLE)

@@ -158,16 +158,16 @@ def resolve_spectral_method(scene: Scene, spectral_samples, spectral_method="aut
     thicker than :func:`bubbleoptics.point_sampling_limit_nm` / :data:`AUTO_FRINGE_BANDS` for
     *spectral_samples* bands (its index at 400 nm, normal incidence: the thinnest limit), i.e.
     when its fringes at 400 nm can span fewer than 1.5 bands, and keeps ``"point"`` otherwise.
-    With 16 bands the switch is at 1.51 µm, inside the window the measurements leave
-    (water, normal incidence): from the Nyquist thickness, 1.13 µm, band means beat point
-    samples thickness by thickness, and from 1.72 µm point samples are grossly wrong (1 µm
-    running median of ΔE00 above 5, ``benchmarks/stability.py``); but on whole scenes with films
-    up to 1.43 µm point sampling measured more accurate and faster, because band means carry
-    their own error (the colour matching functions vary within a band) on the thin parts that
-    make up most of a bubble (``benchmarks/time_vs_error.py``: interior mean ΔE00 0.084 against
-    0.12 on six bubbles).  On a scene of 1.6-3 µm films (``data/scenes/thick_films.toml``) the
-    switch measured right against 16 point samples (0.23 against 0.77), though 32 point samples
-    were faster and more accurate than both (0.075).
+    With 16 bands the switch is at 1.51 µm (water), between the Nyquist thickness (1.13 µm),
+    from which band means beat point samples thickness by thickness, and the thickness from
+    which point samples are grossly wrong (1 µm running median of ΔE00 above 5; water at
+    normal incidence: ``benchmarks/stability.py``, ``data/derived/stability_aliasing.csv``).
+    Not lower, because on whole scenes of thinner films point sampling is the more accurate and
+    the faster: band means carry their own error (the colour matching functions vary within a
+    band) on the thin parts that make up most of a bubble.  On a scene of 1.6-3 µm films
+    (``data/scenes/thick_films.toml``) the switch is right against 16 point samples, though 32
+    point samples can do better than both (``benchmarks/time_vs_error.py``,
+    ``data/derived/time_vs_error.csv``).
     """
     if spectral_method not in SPECTRAL_METHODS:
         raise ValueError(f"spectral_method must be one of {SPECTRAL_METHODS} (got {spectral_method!r})")

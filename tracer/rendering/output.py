@@ -102,8 +102,8 @@ ACES_DISPLAY = "sRGB - Display"
 ACES_VIEW = "ACES 2.0 - SDR 100 nits (Rec.709)"
 #: The display image is formed this many pixels at a time (6 MB of float64).
 CHUNK_PIXELS = 1 << 18
-#: zlib level of 8-bit PNGs: 3 writes a render in about half the time of Pillow's default 6,
-#: for a file about a fifth larger (docs/performance.md).
+#: zlib level of 8-bit PNGs: 3 writes a render faster than Pillow's default 6, for a somewhat
+#: larger file (docs/performance.md).
 PNG_COMPRESS_LEVEL = 3
 #: The largest finite half-precision float; an ``.exr`` of halves saturates there.
 HALF_MAX = 65504.0
@@ -319,8 +319,8 @@ def display_codes(image, *, exposure=0.0, view="clip", bits=8):
     (NaN as 0), encodes it with the sRGB curve and rounds to the nearest code
     (:func:`bubbleoptics.kernels.srgb_encode_quantized_array`, half to even); ``"aces"``
     applies OpenColorIO's ACES 2.0 sRGB view, whose output is display-encoded already, and
-    rounds that.  At ``exposure=0, view="clip"`` this is exactly what every earlier version
-    of :func:`save_image` wrote.
+    rounds that.  ``exposure=0, view="clip"`` (the defaults) is the plain sRGB encoding of the
+    clipped image (colour-science's, rounded: ``tests/test_output.py``).
 
     >>> display_codes(np.array([[[-0.5, 0.5, 2.0]]]))
     array([[[  0, 188, 255]]], dtype=uint8)

@@ -65,7 +65,7 @@ def _environment_dict(env, save_array) -> dict:
 
 def _light_dict(light: PointLight, unit: str) -> dict:
     """A light's table: position, intensity, colour, and falloff, radius and samples where they
-    differ from a point light's defaults (so a coursework light is written as before)."""
+    differ from a point light's defaults (so a coursework light is written with position, intensity and colour only)."""
     ld = {"position": light.position, "intensity": light.intensity, "color": light.color}
     default = PointLight(position=light.position)
     if light.falloff != default.falloff:
