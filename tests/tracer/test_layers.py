@@ -100,3 +100,16 @@ def test_no_two_modules_import_each_other():
             if b.startswith(a + ".") or a.startswith(b + "."):
                 continue  # a package and its own modules
             assert a not in graph.get(b, ()), f"{a} and {b} import each other"
+
+
+def test_every_name_imported_from_the_tracer_exists():
+    """Each ``from tracer.x import name`` names something module ``tracer.x`` defines (a moved
+    name fails here, not at the first call of the function that imports it)."""
+    import importlib
+    import importlib.util
+
+    for name, path, is_package in MODULES:
+        for module, names in _tracer_imports(name, path, is_package):
+            target = importlib.import_module(module)
+            for n in names:
+                assert hasattr(target, n) or importlib.util.find_spec(f"{module}.{n}"), f"{name}: {module}.{n}"

@@ -887,7 +887,7 @@ def _shutdown(server, seconds=1.0) -> bool:
     except Exception:  # a server that never started
         pass
     if stopped:
-        from ..rendering.api import PARALLEL_LOCK
+        from ..rendering.local import PARALLEL_LOCK
 
         # no parallel kernel may start while the interpreter exits (numba's workqueue layer
         # aborts the process when its threads are torn down mid-kernel)

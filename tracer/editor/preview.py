@@ -27,7 +27,8 @@ import numpy as np
 
 from ..rendering.output import display_codes
 from ..prepare.pack import pack_scene
-from ..rendering.api import PARALLEL_LOCK, RenderCancelled, render_in_parts, resolve_settings
+from ..rendering.api import resolve_settings
+from ..rendering.local import PARALLEL_LOCK, RenderCancelled, render_in_parts
 from .scheduler import BACKGROUND, INTERACTIVE, STEP_SECONDS
 from .scheduler import scheduler as default_scheduler
 

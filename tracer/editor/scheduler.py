@@ -27,7 +27,7 @@ import threading
 import time
 from dataclasses import dataclass
 
-from ..rendering.api import PARALLEL_LOCK, RenderCancelled
+from ..rendering.local import PARALLEL_LOCK, RenderCancelled
 
 __all__ = ["RenderScheduler", "scheduler", "INTERACTIVE", "BACKGROUND", "STEP_SECONDS"]
 
