@@ -61,6 +61,15 @@ __all__ = [
     "quarter_wave_reflectance",
     "lamp_envelope",
     "calibrated_reflectance",
+    "OPTIFIK_SERIES",
+    "OPTIFIK_VOID",
+    "OPTIFIK_ENVELOPE_FROM",
+    "OPTIFIK_EXAMPLES",
+    "optifik_series",
+    "optifik_stated",
+    "compare_optifik",
+    "thinning_rows",
+    "main",
 ]
 
 #: Cauchy coefficients (A, B in nm²) of the film index the optifik authors use for their TTAB
@@ -275,9 +284,12 @@ def _design(wl, thickness, n_film, tilt):
     return np.column_stack([r, r * x])
 
 
-def _solve(wl, y, thickness, n_film, tilt):
+def _solve(wl, y, thickness, n_film, tilt, gain=None):
     a = _design(wl, thickness, n_film, tilt)
-    coef, *_ = np.linalg.lstsq(a, y, rcond=None)
+    if gain is not None:
+        coef = np.array([float(gain)] + ([0.0] if tilt else []))
+    else:
+        coef, *_ = np.linalg.lstsq(a, y, rcond=None)
     resid = y - a @ coef
     return coef, float(np.sqrt(np.mean(resid**2))), resid
 
@@ -299,21 +311,23 @@ def _prepare(wavelength_nm, intensity, background, n_film):
     return wl, y
 
 
-def rms_at_thickness(wavelength_nm, intensity, thickness_nm, background=None, n_film=None, tilt=False):
+def rms_at_thickness(wavelength_nm, intensity, thickness_nm, background=None, n_film=None, tilt=False, gain=None):
     """``(rms, rms_relative, gain, tilt)`` of the model at a given thickness (gain and tilt fitted,
-    as in :func:`fit_thickness`)."""
+    as in :func:`fit_thickness`, unless *gain* is given)."""
     wl, y = _prepare(wavelength_nm, intensity, background, n_film)
-    coef, rms, _ = _solve(wl, y, float(thickness_nm), n_film, tilt)
+    coef, rms, _ = _solve(wl, y, float(thickness_nm), n_film, tilt and gain is None, gain)
+    tilt = tilt and gain is None
     return rms, rms / float(np.ptp(y)), float(coef[0]), float(coef[1] / coef[0]) if tilt else 0.0
 
 
 def fit_thickness(wavelength_nm, intensity, thickness_range=(20.0, 6000.0), background=None, n_film=None,
-                  tilt=False, step_nm=None):
+                  tilt=False, step_nm=None, gain=None):
     """Fit the film thickness to a measured reflection spectrum (least squares); a :class:`ThicknessFit`.
 
     The measured intensity (minus *background*, e.g. the spectrum with no film, if given) is
     modelled as ``gain * (1 + tilt * x) * R(λ; d)``, *R* the exact reflectance
-    (:func:`model_reflectance`).  The thickness *d* is scanned over *thickness_range* (nm) in
+    (:func:`model_reflectance`); *gain* given holds the gain at that value (1 for a spectrum in
+    absolute reflectance, :func:`calibrated_reflectance`) and drops the tilt.  The thickness *d* is scanned over *thickness_range* (nm) in
     steps of a tenth of the finest fringe spacing (``step_nm`` to override), the gain and tilt
     solved linearly at each, then the best minimum is refined with
     :func:`scipy.optimize.minimize_scalar` (bounded, within one step either side).
@@ -321,6 +335,7 @@ def fit_thickness(wavelength_nm, intensity, thickness_range=(20.0, 6000.0), back
     from scipy.optimize import minimize_scalar
 
     wl, y = _prepare(wavelength_nm, intensity, background, n_film)
+    tilt = tilt and gain is None
     lo, hi = map(float, thickness_range)
     if not 0 <= lo < hi:
         raise ValueError(f"thickness_range must satisfy 0 <= low < high (got {thickness_range})")
@@ -328,21 +343,25 @@ def fit_thickness(wavelength_nm, intensity, thickness_range=(20.0, 6000.0), back
     if step_nm is None:  # the phase 4π n d / λ changes by 2π every λ/(2n): a tenth of the finest
         step_nm = float(wl[0]) / (2 * n_mid) / 10
     grid = np.arange(lo, hi + step_nm, step_nm)
-    rms = np.array([_solve(wl, y, d, n_film, tilt)[1] for d in grid])
+    if tilt:
+        rms = np.array([_solve(wl, y, d, n_film, tilt, gain)[1] for d in grid])
+    else:  # one linear parameter (or none): the whole scan at once
+        r = np.asarray(model_reflectance(wl[None, :], grid[:, None], n_film), dtype=float)
+        g = np.full(grid.size, float(gain)) if gain is not None else (r @ y) / np.maximum((r * r).sum(axis=1), 1e-300)
+        rms = np.sqrt(np.mean((y[None, :] - g[:, None] * r) ** 2, axis=1))
     best = int(np.argmin(rms))
     a, b = grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)]
-    res = minimize_scalar(lambda d: _solve(wl, y, d, n_film, tilt)[1], bounds=(a, b), method="bounded",
+    res = minimize_scalar(lambda d: _solve(wl, y, d, n_film, tilt, gain)[1], bounds=(a, b), method="bounded",
                           options={"xatol": 1e-3})
     d_best = float(res.x)
-    coef, rms_best, resid = _solve(wl, y, d_best, n_film, tilt)
+    coef, rms_best, resid = _solve(wl, y, d_best, n_film, tilt, gain)
     # runner-up: the best grid point more than a quarter fringe (λ_max / 8n) from the answer
     far = np.abs(grid - d_best) > float(wl[-1]) / (8 * n_mid)
     j = int(np.argmin(np.where(far, rms, np.inf))) if far.any() else best
     # standard error from the Gauss-Newton curvature, all linear parameters profiled out
     eps = max(1e-3, 1e-6 * d_best)
     jac = (_design(wl, d_best + eps, n_film, tilt) - _design(wl, d_best - eps, n_film, tilt)) @ coef / (2 * eps)
-    a_lin = _design(wl, d_best, n_film, tilt)
-    full = np.column_stack([jac, a_lin])
+    full = jac[:, None] if gain is not None else np.column_stack([jac, _design(wl, d_best, n_film, tilt)])
     dof = max(wl.size - full.shape[1], 1)
     s2 = float(resid @ resid) / dof
     try:
@@ -376,16 +395,18 @@ class ThinningFit:
 def _thinning_residual(params, t, h, alpha=None):
     if alpha is None:
         ln_h1, ln_tau, ln_alpha = params
-        alpha = math.exp(ln_alpha)
+        alpha = math.exp(min(max(ln_alpha, -30.0), 30.0))
     else:
         ln_h1, ln_tau = params
-    return ln_h1 - alpha * np.log1p((t - t[0]) / math.exp(ln_tau)) - np.log(h)
+    tau = math.exp(min(max(ln_tau, -300.0), 300.0))
+    return ln_h1 - alpha * np.log1p((t - t[0]) / tau) - np.log(h)
 
 
-def fit_thinning_law(times, thickness_nm, beta=None):
+def fit_thinning_law(times, thickness_nm, beta=None, interval=True):
     """Fit the power-law thinning :math:`h_1[1 + (t - t_1)/\\tau]^{-\\alpha}` in log space
     (:func:`scipy.optimize.least_squares`); *beta* given holds the rate exponent at that value
-    (α = 1/(β - 1), β > 1).  Returns a :class:`ThinningFit`.  The times must increase strictly."""
+    (α = 1/(β - 1), β > 1); *interval* False skips the profile interval of β.  Returns a
+    :class:`ThinningFit`.  The times must increase strictly."""
     from scipy.optimize import least_squares
     from scipy.stats import f as f_dist
 
@@ -396,9 +417,9 @@ def fit_thinning_law(times, thickness_nm, beta=None):
     if np.any(np.diff(t) <= 0) or not np.all(np.isfinite(h)) or np.any(h <= 0):
         raise ValueError("times must increase strictly and thicknesses be finite and > 0")
     span = float(t[-1] - t[0])
-    fixed = None if beta is None else 1.0 / (float(beta) - 1.0)
-    if fixed is not None and not (math.isfinite(fixed) and fixed > 0):
+    if beta is not None and not (math.isfinite(float(beta)) and float(beta) > 1):
         raise ValueError(f"beta must be > 1 (got {beta!r})")
+    fixed = None if beta is None else 1.0 / (float(beta) - 1.0)
 
     def solve(alpha):
         best = None
@@ -413,7 +434,7 @@ def fit_thinning_law(times, thickness_nm, beta=None):
     alpha = fixed if fixed is not None else math.exp(res.x[2])
     rss = 2 * res.cost
     interval = (math.nan, math.nan)
-    if fixed is None:  # profile: the betas whose best fit is within the F-test bound of the optimum
+    if fixed is None and interval:  # profile: the betas whose best fit is within the F-test bound of the optimum
         n, p = t.size, 3
         bound = rss * (1 + f_dist.ppf(0.95, 1, n - p) / (n - p))
         betas = np.linspace(1.05, 12.0, 220)
@@ -423,3 +444,158 @@ def fit_thinning_law(times, thickness_nm, beta=None):
             interval = (float(ok.min()), float(ok.max()))
     return ThinningFit(h1_nm=math.exp(res.x[0]), tau=math.exp(res.x[1]), alpha=alpha, beta=1.0 + 1.0 / alpha,
                        rms_log=math.sqrt(rss / t.size), n_points=int(t.size), beta_interval=interval)
+
+
+# ---------------------------------------------------------------- the optifik TTAB series
+#: The optifik folders of the one time-resolved TTAB film (Victor Ziapkoff's series; its
+#: acquisition indices run on from spectraVictor1 into spectraVictor2/order5 ... order0).
+OPTIFIK_SERIES = ("spectraVictor1", "spectraVictor2/order5", "spectraVictor2/order4", "spectraVictor2/order3",
+                  "spectraVictor2/order2", "spectraVictor2/order1", "spectraVictor2/order0")
+#: The spectrum the optifik authors take as "no film" for the series (their tests' ``void.xy``).
+OPTIFIK_VOID = "spectraVictor2/void.xy"
+#: Indices from which the envelope is taken: the film is then thinner than the first order
+#: that the spectra resolve fully (spectraVictor2, 744 nm and below).
+OPTIFIK_ENVELOPE_FROM = 5543
+#: The spectra shown in the figure (acquisition indices).
+OPTIFIK_EXAMPLES = (5612, 7016, 9217, 14211)
+
+
+def optifik_series(source_dir):
+    """``(wavelength_nm, void, [(time_index, folder, file, intensity)])`` of the TTAB series in an
+    optifik ``data/`` folder *source_dir* (duplicates across folders kept once, by index)."""
+    source = Path(source_dir)
+    wl, void = load_spectrum(source / OPTIFIK_VOID)
+    seen, spectra = set(), []
+    for folder in OPTIFIK_SERIES:
+        for path in sorted((source / folder).glob("T*.xy")):
+            index = series_time(path.name)
+            if index in seen:
+                continue
+            seen.add(index)
+            w, inten = load_spectrum(path)
+            if w.shape != wl.shape or not np.allclose(w, wl):
+                raise ValueError(f"{path}: not on the wavelength grid of {OPTIFIK_VOID}")
+            spectra.append((index, folder, path.name, inten))
+    if not spectra:
+        raise ValueError(f"{source}: no spectra of the series {OPTIFIK_SERIES}")
+    spectra.sort(key=lambda s: s[0])
+    return wl, void, spectra
+
+
+def optifik_stated(source_dir):
+    """The authors' thicknesses of the series: ``{time_index: (folder, file, thickness_nm)}``
+    from the ``known_value.yaml`` files (the first folder that states an index wins)."""
+    source = Path(source_dir)
+    out = {}
+    for folder in OPTIFIK_SERIES:
+        _, values = read_known_values(source / folder / "known_value.yaml")
+        for name, h in values.items():
+            out.setdefault(series_time(name), (folder, name, h))
+    return out
+
+
+def compare_optifik(source_dir):
+    """Every spectrum of the series against the exact optics: a list of row dicts (the columns of
+    ``optifik_comparison.csv``) and the figure's arrays (a dict)."""
+    wl, void, spectra = optifik_series(source_dir)
+    stated = optifik_stated(source_dir)
+    env = lamp_envelope([s[3] for s in spectra if s[0] >= OPTIFIK_ENVELOPE_FROM], void)
+    n_cauchy = cauchy_index(wl)
+    rows, shown = [], {}
+    for index, folder, name, inten in spectra:
+        r_meas = smooth(calibrated_reflectance(wl, inten, void, env))
+        fit = fit_thickness(wl, r_meas, gain=1.0)
+        fit_c = fit_thickness(wl, r_meas, gain=1.0, n_film=n_cauchy)
+        free = fit_thickness(wl, r_meas)
+        h_stated = stated.get(index, (None, None, math.nan))[2]
+        at = rms_at_thickness(wl, r_meas, h_stated, gain=1.0) if math.isfinite(h_stated) else (math.nan,)
+        rows.append({"time_index": index, "folder": folder, "file": name, "stated_nm": h_stated,
+                     "fit_nm": fit.thickness_nm, "fit_sigma_nm": fit.sigma_nm, "fit_cauchy_nm": fit_c.thickness_nm,
+                     "rms_fit": fit.rms, "rms_at_stated": at[0], "runner_up_nm": fit.runner_up_nm,
+                     "runner_up_rms": fit.runner_up_rms, "free_gain": free.gain, "free_gain_fit_nm": free.thickness_nm,
+                     "peak_reflectance": float(np.max(r_meas)), "in_envelope": int(index >= OPTIFIK_ENVELOPE_FROM)})
+        if index in OPTIFIK_EXAMPLES:
+            shown[index] = (r_meas, fit.thickness_nm, h_stated)
+    grid = np.arange(450.0, 800.0 + 1e-9, 2.0)
+    arrays = {"wavelength_nm": grid, "examples": np.array(sorted(shown)),
+              "quarter_wave_R": quarter_wave_reflectance(grid)}
+    for index, (r_meas, h_fit, h_st) in sorted(shown.items()):
+        arrays[f"measured_{index}"] = np.interp(grid, wl, r_meas)  # smoothed, resampled to 2 nm
+        arrays[f"model_fit_{index}"] = np.asarray(model_reflectance(grid, h_fit), dtype=float)
+        arrays[f"model_stated_{index}"] = np.asarray(model_reflectance(grid, h_st), dtype=float)
+    return rows, arrays
+
+
+def thinning_rows(rows, min_nm=30.0):
+    """The thinning-law fits of the series (rows of ``optifik_thinning.csv``): the authors'
+    thicknesses, and ours where the envelope holds (index >= :data:`OPTIFIK_ENVELOPE_FROM`,
+    thicker than *min_nm*, before the film first falls below it), each with β free and β held at
+    each value of :data:`THINNING_EXPONENTS` that is > 1."""
+    out = []
+    stated = [(r["time_index"], r["stated_nm"]) for r in rows if math.isfinite(r["stated_nm"])]
+    ours = []
+    for r in rows:
+        if r["time_index"] < OPTIFIK_ENVELOPE_FROM:
+            continue
+        if r["fit_nm"] < min_nm:
+            break
+        ours.append((r["time_index"], r["fit_nm"]))
+    for source, pts in (("stated", stated), ("fitted", ours)):
+        t, h = np.array(pts, dtype=float).T
+        free = fit_thinning_law(t, h)
+        out.append({"source": source, "law": "free", "beta": free.beta, "beta_low": free.beta_interval[0],
+                    "beta_high": free.beta_interval[1], "rms_log": free.rms_log, "n_points": free.n_points,
+                    "t_first": t[0], "t_last": t[-1], "h_first_nm": h[0], "h_last_nm": h[-1]})
+        for law, beta in THINNING_EXPONENTS.items():
+            if beta <= 1:
+                continue
+            held = fit_thinning_law(t, h, beta=beta)
+            out.append({"source": source, "law": law, "beta": beta, "beta_low": math.nan, "beta_high": math.nan,
+                        "rms_log": held.rms_log, "n_points": held.n_points, "t_first": t[0], "t_last": t[-1],
+                        "h_first_nm": h[0], "h_last_nm": h[-1]})
+    return out
+
+
+def main(argv=None):
+    """``python -m study.measured SOURCE OUT``: SOURCE an optifik ``data/`` folder, OUT the folder
+    for ``optifik_stated_thickness.csv``, ``optifik_comparison.csv``, ``optifik_thinning.csv`` and
+    ``optifik_figure.npz``."""
+    import argparse
+
+    from .results import provenance, write_csv
+
+    ap = argparse.ArgumentParser(description=main.__doc__.splitlines()[0])
+    ap.add_argument("source", type=Path)
+    ap.add_argument("out", type=Path)
+    args = ap.parse_args(argv)
+    regen = f"regenerate with: python -m study.measured {args.source} {args.out}"
+    cite = ("source: github.com/sciunto-org/optifik (GPL-3.0) at commit ff527391194fc24915d68e2b61987fc1ad21c162, "
+            "data/spectraVictor1 and data/spectraVictor2; Ziapkoff, Boulogne, Salonen, Rio, Eur. Phys. J. E 49, 4 "
+            "(2026), doi:10.1140/epje/s10189-025-00545-9; see data/measured/README.md")
+    stated = optifik_stated(args.source)
+    write_csv(args.out / "optifik_stated_thickness.csv",
+              [{"series": "TTAB (Ziapkoff)", "file": f"{folder}/{name}", "time_index": index, "stated_nm": h,
+                "index_model": "Cauchy 1.324188 + 3102.060378/lambda^2"}
+               for index, (folder, name, h) in sorted(stated.items())],
+              [provenance("study/measured.py", regen),
+               "the authors' thicknesses (nm) transcribed from their known_value.yaml files, not measured here; " + cite],
+              float_format=None)
+    rows, arrays = compare_optifik(args.source)
+    write_csv(args.out / "optifik_comparison.csv", rows,
+              [provenance("study/measured.py", regen), cite,
+               "fit_nm: exact free-film reflectance (bubbleoptics, water after Daimon & Masumura 2007, normal "
+               "incidence) fitted to the spectrum in absolute reflectance (gain 1): (I - void)/envelope x R_quarter-wave, "
+               f"envelope = max over the spectra from index {OPTIFIK_ENVELOPE_FROM} of the smoothed I - void; "
+               "450-800 nm; rms in reflectance units; free_gain: the gain when it is fitted too"],
+              float_format="{:.6g}", na_rep="")
+    write_csv(args.out / "optifik_thinning.csv", thinning_rows(rows),
+              [provenance("study/measured.py", regen), cite,
+               "h(t) = h1 [1 + (t - t1)/tau]^(-1/(beta-1)) fitted in log space; t: acquisition index (unit not stated "
+               "by the source); beta_low/high: 95 % profile interval"],
+              float_format="{:.6g}", na_rep="")
+    np.savez_compressed(args.out / "optifik_figure.npz", **arrays)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
