@@ -2,6 +2,8 @@
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
+# the package alone (what `make demo` needs, as a user's install), then the test extras on top
+BASE   := $(VENV)/.installed-base
 STAMP  := $(VENV)/.installed
 # The studies (study/: analyses of the optics and the tracer for the benchmarks, notebooks and
 # paper) are not part of the wheel; the checkout's root goes on the venv's path so they import.
@@ -9,22 +11,25 @@ CHECKOUT_PTH = $(PY) -c 'import pathlib, sysconfig; pathlib.Path(sysconfig.get_p
 
 .PHONY: demo test chromium bench paper clean clean-cache activate
 
-$(STAMP): pyproject.toml
+$(BASE): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install --quiet -e .
 	$(CHECKOUT_PTH)
+	touch $(BASE)
+
+$(STAMP): $(BASE)
+	$(PY) -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
 ## make demo: the main job: render the built-in bubble scene (960x960), plus the thin-film plots.
-demo: $(STAMP)
+demo: $(BASE)
 	mkdir -p demo-output
 	$(PY) -m bubbleoptics.demo --out demo-output
 	$(PY) -m tracer image demo-output/bubbles.png
 	@echo "$(CURDIR)/demo-output/bubbles.png"
 
 ## make activate: print the line that puts `tracer` (and the venv's python) on this shell's PATH.
-activate: $(STAMP)
+activate: $(BASE)
 	@echo "source $(CURDIR)/$(VENV)/bin/activate"
 
 ## make test: the whole test suite, including every notebook in quick mode, on two workers
