@@ -2,7 +2,7 @@
 
 What this module is
 -------------------
-Two kinds of reference, against which the tests (``tests/test_reference_*.py``) and the
+Two kinds of reference, against which the tests (``tests/bubbleoptics/test_reference_*.py``) and the
 stress benchmark (``benchmarks/stability.py``, notebook 05) check the package's fast kernels.
 It needs the ``test`` extra (``pip install 'bubbleoptics[test]'``: ``mpmath``, ``tmm``); nothing
 imports it unless asked (``from study import reference``).
@@ -53,12 +53,12 @@ imports it unless asked (``from study import reference``).
 
 Why it is independent
 ---------------------
-Nothing here imports or calls the rest of ``bubbleoptics`` (``tests/test_study_package.py``
+Nothing here imports or calls the rest of ``bubbleoptics`` (``tests/study/test_study_package.py``
 checks the imports); the mpmath code shares no code and no numerical strategy with the
 package's float64/numba kernels (no float64 arithmetic at all after
 the exact input conversion), and ``tmm`` is a third-party implementation.  The single-film
 Airy formula and the multilayer matrix product are two different formulations and are
-cross-checked against each other and against ``tmm`` in ``tests/test_reference_tmm.py``.
+cross-checked against each other and against ``tmm`` in ``tests/bubbleoptics/test_reference_tmm.py``.
 
 Conventions are those of the package: wavelengths and thicknesses in nm, angles in
 radians, ``n + ik`` with ``k >= 0`` absorbing (phase factor ``exp(+i 2 pi n d cos / lambda)``),

@@ -11,7 +11,7 @@ database on disk.
 ``thorough`` is for occasional local runs hunting for counterexamples: ten times as many
 examples, randomised, with the database so that a failure found once is replayed first.
 
-Choose with ``HYPOTHESIS_PROFILE=thorough pytest tests/test_properties.py`` (or pytest's own
+Choose with ``HYPOTHESIS_PROFILE=thorough pytest tests/bubbleoptics/test_properties.py`` (or pytest's own
 ``--hypothesis-profile thorough`` option).
 """
 
@@ -60,7 +60,7 @@ def client():
 @pytest.fixture()
 def editor(browser, server):
     """The scene editor open in a page of the browser test module's ``browser``, served by its
-    ``server`` (tests/test_editor_browser.py, tests/test_editor_attacks.py); closed after."""
+    ``server`` (tests/tracer/test_editor_browser.py, tests/tracer/test_editor_attacks.py); closed after."""
     from tracer.editor.testing import EditorPage
 
     ed = EditorPage(browser, server)

@@ -39,16 +39,16 @@ def documented(dirs):
     (out["SweepWavelengths"], out["SweepWlMin"], out["SweepWlMax"], out["SweepAngles"],
      out["SweepThicknesses"]) = m.groups()
     tests = root / "tests"
-    text = (tests / "test_reference_mpmath.py").read_text(encoding="utf-8")
+    text = (tests / "bubbleoptics" / "test_reference_mpmath.py").read_text(encoding="utf-8")
     m = re.search(r"wavelength (\d+)-(\d+) nm, thickness\s+0-(\d+) µm", text)
     if not m:
-        raise ValueError("tests/test_reference_mpmath.py: the domain sentence "
+        raise ValueError("tests/bubbleoptics/test_reference_mpmath.py: the domain sentence "
                          "('wavelength A-B nm, thickness 0-C µm') is gone")
     out["RefDomainWlMin"], out["RefDomainWlMax"], out["RefDomainThicknessUm"] = m.groups()
     patterns = {
-        "TmmTol": ("test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
-        "ColourXYZTol": ("test_colorimetry.py", rf"/ 100 to {_NUM}"),
-        "FilmColourTol": ("test_colorimetry.py", rf"film_color within {_NUM} per channel"),
+        "TmmTol": ("bubbleoptics/test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
+        "ColourXYZTol": ("bubbleoptics/test_colorimetry.py", rf"/ 100 to {_NUM}"),
+        "FilmColourTol": ("bubbleoptics/test_colorimetry.py", rf"film_color within {_NUM} per channel"),
         "HypothesisExamples": ("conftest.py", r"max_examples=([0-9]+)"),
     }
     for name, (file, pattern) in patterns.items():

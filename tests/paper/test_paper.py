@@ -1,0 +1,249 @@
+"""The paper builds from the repository: its numbers from data/, and (where LaTeX is installed) its PDF.
+
+* ``paper/scripts/make_numbers.py`` writes ``numbers.tex`` with every macro the paper uses,
+  defined from the CSVs that are present (checked against the CSV itself for a few), and prints
+  "n/a" with a warning, never a traceback, for inputs that are missing.
+* The figures (``make_figures.py --quick``) and the coursework's table (``table_coursework.py``) are rebuilt
+  into a temporary copy of ``paper/`` through ``BUBBLEOPTICS_FIGURES_DIR``: every ``fig_*.py``
+  must write its PDF and PNG.
+* With ``latexmk`` on the PATH that copy is built with ``latexmk -pdf``: the PDF must exist,
+  have more than three pages, resolve every citation and reference, have no overfull box, and (where ``pdffonts`` is
+  installed) embed no Type 3 bitmap font.  Without LaTeX this test
+  is skipped (the Debian packages are named in ``paper/Makefile``).
+
+Nothing is written into the repository.
+"""
+
+import csv
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import paper_helpers
+
+pytestmark = pytest.mark.api
+
+ROOT = Path(__file__).resolve().parents[2]
+PAPER = ROOT / "paper"
+SCRIPTS = PAPER / "scripts"
+MAKE_NUMBERS = SCRIPTS / "make_numbers.py"
+DERIVED = ROOT / "data" / "derived"
+
+#: Control words of paper.tex that start with a capital and are not numbers.tex macros: LaTeX's
+#: own (section sign, Greek capitals, ...) and the paper's (\\R, \\T for reflectance, transmittance).
+NOT_NUMBERS = {"IfFileExists", "PackageError", "DeclareTextSymbolDefault",
+               "PackageWarning", "R", "T", "NumberNA", "S", "P", "L", "O", "AA",
+               "AE", "OE", "TeX", "LaTeX", "Huge", "LARGE", "Large", "Delta", "Gamma", "Lambda", "Omega", "Phi",
+               "Pi", "Psi", "Sigma", "Theta", "Upsilon", "Xi"}
+
+
+def run(args, timeout, **kwargs):
+    return subprocess.run([sys.executable, *map(str, args)], capture_output=True, text=True, timeout=timeout,
+                          **kwargs)
+
+
+def macros(path):
+    """{name: text} of the \\newcommand lines of a numbers.tex."""
+    text = Path(path).read_text(encoding="utf-8")
+    return dict(re.findall(r"^\\newcommand\{\\([A-Za-z]+)\}\{(.*)\}$", text, flags=re.MULTILINE))
+
+
+def declared_names():
+    """Every macro make_numbers.py declares, from its SECTIONS table (``--list-macros``)."""
+    result = run([MAKE_NUMBERS, "--list-macros"], timeout=60)
+    assert result.returncode == 0, result.stderr
+    return result.stdout.split()
+
+
+def number(text):
+    """The float of a plain-decimal macro value ('55\\,000' -> 55000.0)."""
+    return float(text.replace(r"\,", ""))
+
+
+@pytest.fixture(scope="module")
+def numbers(tmp_path_factory):
+    out = tmp_path_factory.mktemp("numbers") / "numbers.tex"
+    result = run([MAKE_NUMBERS, "--out", out], timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    return macros(out)
+
+
+def test_every_declared_macro_is_written(numbers):
+    names = declared_names()
+    assert len(names) == len(set(names))
+    assert sorted(numbers) == sorted(names)
+    assert all(re.fullmatch(r"[A-Za-z]+", name) for name in names)
+
+
+def test_every_number_in_the_paper_is_a_macro(numbers):
+    used = set(re.findall(r"\\([A-Z][A-Za-z]*)", paper_helpers.source()))
+    missing = sorted(used - NOT_NUMBERS - set(numbers))
+    assert not missing, f"paper.tex uses macros that numbers.tex does not define: {missing}"
+
+
+def test_no_number_is_na_with_the_repositorys_data(numbers):
+    """Every input of make_numbers.py is in the repository, so no macro may fall back to n/a."""
+    na = sorted(name for name, text in numbers.items() if "NumberNA" in text)
+    assert not na, f"n/a with the repository's own data: {na}"
+
+
+@pytest.mark.parametrize("path", sorted(DERIVED.glob("*.csv")), ids=lambda p: p.name)
+def test_every_derived_csv_names_its_writer_machine_and_date(path):
+    """The first line of each benchmark output is study.provenance's header: the
+    script that wrote it, the date and the machine (what make_numbers.py reads back)."""
+    first = path.read_text(encoding="utf-8").splitlines()[0]
+    m = re.fullmatch(r"# written by (benchmarks/\w+\.py) on (\d{4}-\d{2}-\d{2}).*", first)
+    assert m, f"{path.name}: no provenance header, first line {first[:80]!r}"
+    assert (ROOT / m.group(1)).exists(), f"{path.name}: names {m.group(1)}, which does not exist"
+    assert re.search(r"[(;] ?([^,();]+), (\d+) (cores?|CPUs)", first), f"{path.name}: no machine in {first!r}"
+
+
+#: A number followed by a unit or a count noun (nm, µm, s, %, bands, pixels, ...): in the prose such a
+#: number is a result, a setting or a constant of the code, so it must come from numbers.tex.
+TYPED_WITH_UNIT = re.compile(
+    r"(?<![\\\w{.])\d+(?:\.\d+)?(?:--\d+(?:\.\d+)?)?(?:\\,|~|\s)*"
+    r"(?:nm\b|\\um|ms\b|ns\b|s\b|\\%|bands?\b|entries\b|samples?\b|pixels?\b|times\b|-fold|digits?\b|-digit)")
+
+
+def prose(tex):
+    """The text of the document body that is neither a comment, mathematics, nor a reference,
+    citation, label or \\code{} argument."""
+    body = tex[tex.index(r"\begin{document}"):]
+    body = re.sub(r"(?<!\\)%.*", "", body)
+    body = re.sub(r"\\begin\{(equation|align)\*?\}.*?\\end\{\1\*?\}", " ", body, flags=re.DOTALL)
+    body = re.sub(r"\$[^$]*\$", " ", body)
+    return re.sub(r"\\(ref|eqref|label|cite[pt]?|citealp|code)\*?(\[[^]]*\])?\{[^}]*\}", " ", body)
+
+
+def test_prose_filter_finds_typed_numbers():
+    tex = (r"\begin{document} with 421 bands (512 entries, 18.7\,nm) at 0.42\,\um{} in 3.2\,s, 7\,\%;"
+           r" ok: \MaxBands{} bands, $16$ bands in math, listing~3.2, Fig.~\ref{fig:1} % 5 nm in a comment")
+    found = [m.group(0) for m in TYPED_WITH_UNIT.finditer(prose(tex))]
+    assert found == ["421 bands", "512 entries", "18.7\\,nm", "0.42\\,\\um", "3.2\\,s", "7\\,\\%"]
+
+
+def test_no_number_with_a_unit_is_typed_in_the_prose(numbers):
+    """Results, settings and constants in the text are macros (numbers.tex), not typed: no number
+    with a unit or a count noun outside mathematics, and no machine name typed where a macro has it."""
+    text = prose(paper_helpers.source())
+    typed = sorted({m.group(0) for m in TYPED_WITH_UNIT.finditer(text)})
+    assert not typed, f"typed numbers in paper.tex (make them macros of make_numbers.py): {typed}"
+    for name, value in numbers.items():
+        if name.endswith("Machine") and "NumberNA" not in value:
+            assert value.replace(r"\_", "_") not in text.replace(r"\_", "_"), f"{value!r} typed; use \\{name}"
+
+
+@pytest.mark.skipif(not (DERIVED / "bandlimited_colour.csv").exists(), reason="no data/derived/bandlimited_colour.csv")
+def test_one_exposure_convention_for_film_colours(numbers):
+    """Figs. bandlimited and stability quote the same point-sampling error for the same case (16
+    bands, normal incidence, D65, water, 0-20 um) only if both use the same exposure: the two
+    benchmarks' maxima agree (their thickness grids differ, hence the tolerance), and the band-limited
+    colour's maxima too."""
+    assert number(numbers["AliasMaxAllSixteen"]) == pytest.approx(number(numbers["BlPointSixteenMaxNormal"]), rel=0.1)
+    assert number(numbers["BandlimitedMaxSixteen"]) == pytest.approx(number(numbers["BlSixteenMaxNormal"]), rel=0.1)
+    assert number(numbers["BlExposedGainMin"]) > 1  # the exposed differences are the larger ones
+
+
+@pytest.mark.skipif(not (DERIVED / "optics_speed.csv").exists(), reason="no data/derived/optics_speed.csv")
+def test_optics_numbers_come_from_the_csv(numbers):
+    lines = [ln for ln in (DERIVED / "optics_speed.csv").read_text().splitlines() if not ln.startswith("#")]
+    rows = list(csv.DictReader(lines))
+    colour = next(r for r in rows if "thin_film_tmm" in r["implementation"])
+    ours = next(r for r in rows if r["case"] == "sweep" and r["implementation"].startswith("bubbleoptics"))
+    assert number(numbers["SpeedupColour"]) == pytest.approx(float(colour["ratio_to_bubbleoptics"]), rel=0.01)
+    assert number(numbers["NsOurs"]) == pytest.approx(float(ours["ns_per_evaluation"]), rel=0.05)
+    assert "NumberNA" not in "".join(v for k, v in numbers.items() if k.startswith(("Sweep", "Ns", "Speedup")))
+
+
+@pytest.mark.skipif(not (DERIVED / "coursework_table.csv").exists(), reason="no data/derived/coursework_table.csv")
+def test_coursework_table_numbers_come_from_the_csvs(numbers):
+    lines = (ROOT / "data" / "coursework_table_4_1.csv").read_text().splitlines()
+    rows = list(csv.DictReader(ln for ln in lines if not ln.startswith("#")))
+    growth = float(rows[-1]["one_bubble"]) / float(rows[0]["one_bubble"])
+    assert number(numbers["CourseworkGrowthOne"]) == pytest.approx(growth, rel=0.01)
+    assert numbers["CourseworkBestIsAffine"] in ("0", "1")
+    for name in ("OursDepthOneMin", "OursDepthTenMax", "SpeedupDepthTenMax", "RaysGrowthExhaustiveOne"):
+        assert number(numbers[name]) > 0
+
+
+def test_missing_inputs_give_na_and_a_warning_not_a_crash(tmp_path):
+    out = tmp_path / "numbers.tex"
+    empty = tmp_path / "no-data"
+    empty.mkdir()
+    result = run([MAKE_NUMBERS, "--out", out, "--data", empty], timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    assert "warning" in result.stderr and "optics_speed.csv" in result.stderr
+    written = macros(out)
+    assert sorted(written) == sorted(declared_names())
+    for name in ("SpeedupColour", "CourseworkGrowthOne", "OursDepthOneMin", "GrazingOursRelT", "AliasOnsetSixteen"):
+        assert written[name] == r"\NumberNA{}", name
+    assert r"\providecommand{\NumberNA}" in out.read_text()
+
+
+def _pages(pdf, log):
+    if shutil.which("pdfinfo"):
+        info = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, timeout=30).stdout
+        m = re.search(r"^Pages:\s+(\d+)", info, flags=re.MULTILINE)
+        if m:
+            return int(m.group(1))
+    m = re.search(r"Output written on \S+ \((\d+) pages?", log)
+    if m:
+        return int(m.group(1))
+    return len(re.findall(rb"/Type\s*/Page\b", pdf.read_bytes()))
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """A copy of paper/ with its figures (quick mode), the coursework's table and numbers.tex, all
+    written by the repository's scripts into a temporary folder (BUBBLEOPTICS_FIGURES_DIR)."""
+    build = tmp_path_factory.mktemp("paper")
+    for name in ("paper.tex", "references.bib"):
+        shutil.copy(PAPER / name, build / name)
+    shutil.copytree(PAPER / "sections", build / "sections")
+    env = dict(os.environ, BUBBLEOPTICS_FIGURES_DIR=str(build / "figures"), MPLBACKEND="Agg")
+    if (SCRIPTS / "make_figures.py").exists():  # the session's one quick build, shared with test_paper_figures
+        figures, returncode, output = paper_helpers.quick_figures(tmp_path_factory)
+        assert returncode == 0, output[-4000:]
+        shutil.copytree(figures, build / "figures")
+    if (SCRIPTS / "table_coursework.py").exists():
+        result = run([SCRIPTS / "table_coursework.py"], timeout=60, env=env)
+        assert result.returncode == 0, result.stderr[-2000:]
+    result = run([MAKE_NUMBERS, "--out", build / "numbers.tex"], timeout=120)
+    assert result.returncode == 0, result.stderr[-2000:]
+    return build
+
+
+def test_figures_and_table_build_in_quick_mode(built):
+    """Every fig_*.py writes its PDF and PNG; table_coursework.py writes a booktabs tabular."""
+    for script in sorted(SCRIPTS.glob("fig_*.py")):
+        for suffix in (".pdf", ".png"):
+            assert (built / "figures" / f"{script.stem}{suffix}").stat().st_size > 0, script.name
+    table = (built / "figures" / "table_coursework.tex").read_text(encoding="utf-8")
+    assert table.count(r"\\") >= 13 and r"\toprule" in table and r"\bottomrule" in table
+
+
+@pytest.mark.skipif(shutil.which("latexmk") is None, reason="LaTeX not installed")
+def test_paper_pdf_builds(built):
+    latex = subprocess.run(["latexmk", "-pdf", "-interaction=nonstopmode", "-halt-on-error", "paper.tex"],
+                           cwd=built, capture_output=True, text=True, timeout=120)
+    log = (built / "paper.log").read_text(errors="replace") if (built / "paper.log").exists() else ""
+    assert latex.returncode == 0, latex.stdout[-3000:] + log[-3000:]
+    pdf = built / "paper.pdf"
+    assert pdf.exists()
+    assert _pages(pdf, log) > 3
+    assert not re.search(r"Citation `[^']*' .*undefined", log), "unresolved citation"
+    assert "There were undefined references" not in log
+    overfull = re.findall(r"^Overfull \\[hv]box .*$", log, flags=re.MULTILINE)
+    assert not overfull, f"overfull boxes: {overfull[:5]}"
+    if shutil.which("pdffonts"):  # poppler-utils: a Type 3 font is a bitmap (e.g. a TS1 glyph without cm-super)
+        fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, timeout=60)
+        assert fonts.returncode == 0, fonts.stderr
+        type3 = [line for line in fonts.stdout.splitlines()[2:] if "Type 3" in line]
+        assert not type3, f"paper.pdf embeds Type 3 (bitmap) fonts: {type3}"
