@@ -9,7 +9,7 @@ leaf throughputs, which is 1 when every split conserves energy (R + T = 1 for a 
 F + (1 - F) = 1 for clear glass) and every cut branch is closed with what it still carries
 (``tracer.kernels.integrator``; the coursework's estimator dropped them, and deep bubbles went dark).
 Each case is rendered in a uniform white environment and compared with the environment alone
-rendered with the same channels (as ``tests/test_energy.py`` does); reported are the largest and
+rendered with the same channels (as ``tests/tracer/test_energy.py`` does); reported are the largest and
 the mean absolute deviation over pixels and channels (linear sRGB, environment 1), the largest
 excess (a pixel brighter than the environment), and the rays traced.  Cases, each at depth 10
 with no pruning (threshold 0, the exhaustive tree) and with the default pruning:
@@ -18,7 +18,7 @@ with no pruning (threshold 0, the exhaustive tree) and with the default pruning:
 * ``thick_bubble``: one bubble of 20 um (band-averaged films);
 * ``two_beam_bubble``: the draining bubble with the coursework's two-beam film (T = 1 - R);
 * ``glass``: a clear glass sphere (n = 1.5, transmission 1, no local terms);
-* ``foam``: 1000 water bubbles of 0-2 um (``tests/test_energy.py``'s foam).
+* ``foam``: 1000 water bubbles of 0-2 um (``tests/tracer/test_energy.py``'s foam).
 
 And ``absorbing_bubble``: a dyed film (n = 1.36 + 0.02i, 300 nm), whose pixels must equal the
 closed form B (R + T^2 / (1 - R)) with R, T from bubbleoptics (largest relative deviation).

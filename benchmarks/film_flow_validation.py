@@ -5,7 +5,7 @@ Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) a
 ``data/derived/film_flow_validation.npz`` (the apex curve, the thickness against time of the
 black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film_flow.py``).
 
-The checks are those of ``tests/test_film_flow.py``, computed by the same helpers (both import
+The checks are those of ``tests/bubbleoptics/test_film_flow.py``, computed by the same helpers (both import
 them from :mod:`study.film_flow`: ``plug_equilibrium_error``,
 ``rigid_characteristics_profile``, ``plug_transient_differences``), on more grids:
 
@@ -252,7 +252,7 @@ def main(argv=None):
         provenance("benchmarks/film_flow_validation.py",
                    f"load average {load_start:.2f} at the start, {load:.2f} at the end (other processes share the cores)",
                    ("QUICK MODE (smoke test), " if q else "")
-                   + "the checks of tests/test_film_flow.py on more grids; frames in film_flow_validation.npz",
+                   + "the checks of tests/bubbleoptics/test_film_flow.py on more grids; frames in film_flow_validation.npz",
                    "regenerate with: python benchmarks/film_flow_validation.py" + (" --quick" if q else "")),
         "order rows: log2 of the ratio of the error on the grid half as fine to the error on this grid",
     ]

@@ -186,7 +186,7 @@ def mitsuba_environment(mi, image, folder, orientation="matched"):
 
     Both renderers map a direction d to u = atan2(d_x, -d_z) / 2 pi (mod 1), v = acos(d_y) / pi
     (row 0 at +y): ours adopted Mitsuba's ``envmap`` convention (tracer.kernels.environment;
-    tests/test_environment.py renders one environment in both), so the matched orientation is
+    tests/tracer/test_environment.py renders one environment in both), so the matched orientation is
     the image as it is, with no rotation.  Both put texel centres at (j + 1/2) / width in u; in
     v Mitsuba places row i at i / (height - 1) (ours: (i + 1/2) / height), at most half a texel
     (0.09 degrees) apart, at the poles.

@@ -228,7 +228,7 @@ def rgb_reflectance_basis(n_bands, lo_nm=360.0, hi_nm=780.0):
 
 #: Linear sRGB from CIE XYZ, D65 white: the matrix as IEC 61966-2-1:1999 publishes it (four
 #: decimals), which is colour-science's ``RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB``
-#: (tests/test_colorimetry.py checks that they are equal).
+#: (tests/bubbleoptics/test_colorimetry.py checks that they are equal).
 XYZ_TO_LINEAR_SRGB = np.array([[3.2406, -1.5372, -0.4986],
                                [-0.9689, 1.8758, 0.0415],
                                [0.0557, -0.2040, 1.0570]])

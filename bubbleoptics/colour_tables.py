@@ -3,7 +3,7 @@
 ``python -m bubbleoptics.colour_tables`` recomputes every array with colour-science and writes
 the file that :func:`bubbleoptics.colorimetry.colour_tables` reads, so that neither
 ``import bubbleoptics`` nor a render imports colour-science (one to several seconds of
-start-up).  Run it after upgrading colour-science; ``tests/test_colorimetry.py`` fails while
+start-up).  Run it after upgrading colour-science; ``tests/bubbleoptics/test_colorimetry.py`` fails while
 the shipped file and colour-science disagree.
 
 Nothing in the package imports this module; it imports colour-science.

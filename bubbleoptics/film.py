@@ -81,7 +81,7 @@ def film_reflectance(
     §7.6.1, eq. 7.6.(15)), evaluated in a cancellation-free form described in
     :mod:`bubbleoptics.kernels`.  Accuracy: within 1e-12 absolute and 1e-9 relative of a
     40-digit evaluation over 300-1000 nm, 0-10 µm, |theta| <= pi/2 - 1e-6, film n 1-2.5 with
-    k <= 0.1 (tested in ``tests/test_reference_mpmath.py``).
+    k <= 0.1 (tested in ``tests/bubbleoptics/test_reference_mpmath.py``).
 
     Parameters
     ----------

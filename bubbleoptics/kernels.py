@@ -238,7 +238,7 @@ def sin2_cos2_nb(beta):
     1 ulp of r plus 1e-27), the Taylor polynomial of sin r on |r| <= π/4, cos²r = 1 - sin²r
     (at least 1/2 there, so no digit is lost), and the quadrant applied as an exact 0/1 blend
     (only squares are needed, so signs drop out).  Checked against libm and
-    mpmath in ``tests/test_kernels.py``.
+    mpmath in ``tests/bubbleoptics/test_kernels.py``.
     """
     k = math.floor(beta * _TWO_OVER_PI + 0.5)
     r = ((beta - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
@@ -760,7 +760,7 @@ def water_index_array(wavelength):
 # temporaries (several passes over the image): the array kernels are one parallel pass.  They
 # follow colour-science's eotf_inverse_sRGB and eotf_sRGB operation for operation with the C
 # library's pow; NumPy's vectorised power, which colour-science calls, can differ from it by an
-# ulp (tests/test_colorimetry.py: to the bit against the formula, 1e-15 against colour-science).
+# ulp (tests/bubbleoptics/test_colorimetry.py: to the bit against the formula, 1e-15 against colour-science).
 SRGB_LINEAR_BELOW = 0.0031308  # linear-light value where the curve turns from linear to power
 SRGB_ENCODED_BELOW = SRGB_LINEAR_BELOW * 12.92  # the same point encoded (0.040449936)
 

@@ -11,7 +11,7 @@
 * :func:`first_crossing` and :func:`rigid_black_time`: when a thickness first goes below a
   threshold, in a simulated series and by the rigid-drainage apex law
   :math:`h_0 (1 + t/\\tau)^{-1/2}`;
-* the validation references of the models, shared by ``tests/test_film_flow.py`` and
+* the validation references of the models, shared by ``tests/bubbleoptics/test_film_flow.py`` and
   ``benchmarks/film_flow_validation.py``: :func:`rigid_characteristics_profile` (rigid drainage
   from a uniform start, by the characteristics of its PDE, integrated with scipy),
   :func:`plug_equilibrium_error` (plug flow against its closed-form equilibrium) and

@@ -7,7 +7,7 @@ Bottom: the tracer looking from the origin along -z (up +y, 100 degrees wide) at
 as its environment, with a mirror sphere below the horizon: the labels read as they are
 written (the image is not mirrored) and the view shows u = 0 straight ahead, +x to the right.
 The convention is Mitsuba 3's (tracer.kernels.environment.environment_rgb; checked against Mitsuba in
-tests/test_environment.py).
+tests/tracer/test_environment.py).
 """
 
 from pathlib import Path

@@ -1,7 +1,7 @@
 """Figure: the scene editor in a browser, the screenshot its browser test takes.
 
 Run:  python paper/scripts/fig_editor.py [--quick]
-Reads ``docs/images/editor.png`` (written by ``tests/test_editor_browser.py`` with
+Reads ``docs/images/editor.png`` (written by ``tests/tracer/test_editor_browser.py`` with
 ``BUBBLEOPTICS_UPDATE_SCREENSHOT=1``: ``tracer edit`` at 400 x 400 in headless Chromium, after
 the test's edits, a picked pixel and a refused value); writes ``fig_editor.pdf``/``.png`` at the
 column width.  The screenshot is placed as it is (no text is drawn on it).  Quick mode draws the

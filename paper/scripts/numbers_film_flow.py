@@ -1,7 +1,7 @@
 """The numbers of the film-flow chapter (paper/sections/film_flow.tex), a plug-in of make_numbers.py.
 
 * ``filmflowvalid``: ``data/derived/film_flow_validation.csv`` (``benchmarks/film_flow_validation.py``):
-  the checks of ``tests/test_film_flow.py`` on more grids, the black-film time and the frames;
+  the checks of ``tests/bubbleoptics/test_film_flow.py`` on more grids, the black-film time and the frames;
 * ``filmflowspeed``: ``data/derived/film_flow.csv`` (``benchmarks/film_flow.py``): ms a step, steps
   per second, the target, and the cost of a 10-s movie;
 * ``filmflowparams``: :class:`bubbleoptics.filmflow.FilmParameters` (the cited defaults) and the

@@ -8,7 +8,7 @@ the Agg canvas (no pyplot, no display).  ``savefig(fig, name)`` writes ``name.pd
 and returns their paths, after checking that the figure is legible at print size: every text
 of it is at least ``MIN_FONT_PT`` tall (:func:`small_texts`).  The figures are placed in the
 paper at their natural size (``\\paperfigure`` in paper.tex), so these sizes are the printed
-ones; ``tests/test_paper_figures.py`` checks each PDF's width against its slot in paper.tex.
+ones; ``tests/paper/test_paper_figures.py`` checks each PDF's width against its slot in paper.tex.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Driving the editor in a real browser (Playwright and a system Chromium), for the browser tests
-(``tests/test_editor_browser.py``) and the latency benchmark (``benchmarks/editor_latency.py``).
+(``tests/tracer/test_editor_browser.py``) and the latency benchmark (``benchmarks/editor_latency.py``).
 
 Chromium is the system's (Debian's ``chromium`` package), launched by its path: no browser is
 downloaded.  :func:`chromium_path` finds it (``TRACER_CHROMIUM``, else ``chromium`` /

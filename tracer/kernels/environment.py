@@ -36,7 +36,7 @@ def environment_rgb(env, image, d):
     depth; a narrow smooth blend (|e| < 0.01) avoids a seam.
     Image: equirectangular (latitude-longitude) lookup, nearest texel, in Mitsuba 3's
     ``envmap`` convention (W. Jakob et al., Mitsuba 3 renderer, plugin ``envmap``; checked
-    against Mitsuba itself in tests/test_environment.py): in the frame (X, up, Z) of the
+    against Mitsuba itself in tests/tracer/test_environment.py): in the frame (X, up, Z) of the
     record's ``xaxis``, ``up`` and ``zaxis`` (world x, y, z for up = +y), the direction d falls on
     column u = atan2(d.X, -d.Z) / 2π (mod 1) and row v = acos(d.up) / π of the image (row 0 at
     the zenith).  Looking along -Z with up up, the image's column 0 is straight ahead and the

@@ -39,7 +39,7 @@ and each far distance is widened by :math:`2\\gamma_3` so rounding never culls a
 touches.  Triangles are tested with the watertight kernel of :mod:`tracer.kernels.geometry`.
 
 The tests check the tree against a brute-force nearest hit over all triangles
-(``tests/test_geometry.py``).
+(``tests/tracer/test_geometry.py``).
 """
 
 from __future__ import annotations

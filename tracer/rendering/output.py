@@ -320,7 +320,7 @@ def display_codes(image, *, exposure=0.0, view="clip", bits=8):
     (:func:`bubbleoptics.kernels.srgb_encode_quantized_array`, half to even); ``"aces"``
     applies OpenColorIO's ACES 2.0 sRGB view, whose output is display-encoded already, and
     rounds that.  ``exposure=0, view="clip"`` (the defaults) is the plain sRGB encoding of the
-    clipped image (colour-science's, rounded: ``tests/test_output.py``).
+    clipped image (colour-science's, rounded: ``tests/tracer/test_output.py``).
 
     >>> display_codes(np.array([[[-0.5, 0.5, 2.0]]]))
     array([[[  0, 188, 255]]], dtype=uint8)

@@ -1,7 +1,7 @@
 """Convert a scene file in the coursework's text format to TOML: :func:`coursework_to_toml`.
 
 The scene read back from the TOML file is equal, field by field, to the one read from the
-coursework file (``tests/test_scene_io.py`` checks this for every such file in ``data/``).
+coursework file (``tests/tracer/test_scene_io.py`` checks this for every such file in ``data/``).
 """
 
 from __future__ import annotations

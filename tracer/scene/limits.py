@@ -25,7 +25,7 @@ Why each limit is where it is:
 And every number a scene gives (coordinates, lengths, film thicknesses, intensities, colours)
 is at most :data:`MAX_MAGNITUDE` = 1e15 in magnitude: squared distances and sums of radiance
 must stay finite (1e308 is the float limit), and the tracer is tested on scenes from 1e-12 to
-1e12 units (tests/test_geometry.py); a refractive index at most :data:`MAX_INDEX` = 100.
+1e12 units (tests/tracer/test_geometry.py); a refractive index at most :data:`MAX_INDEX` = 100.
 """
 
 from __future__ import annotations
