@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = [
+    "FIT_BAND_NM",
     "OPTIFIK_CAUCHY",
     "cauchy_index",
     "load_spectrum",
@@ -98,7 +99,11 @@ def cauchy_index(wavelength_nm, a=OPTIFIK_CAUCHY[0], b=OPTIFIK_CAUCHY[1]):
     return a + b / wl**2
 
 
-def load_spectrum(path, wavelength_min=450.0, wavelength_max=800.0):
+#: The wavelengths the spectra are compared over, nm (the spectrometer's trustworthy range).
+FIT_BAND_NM = (450.0, 800.0)
+
+
+def load_spectrum(path, wavelength_min=FIT_BAND_NM[0], wavelength_max=FIT_BAND_NM[1]):
     """``(wavelength_nm, intensity)`` of a two-column text spectrum, cut to [min, max] nm.
 
     The columns are separated by a comma (optifik's ``.xy`` files), or by white space.  Rows
@@ -516,7 +521,7 @@ def compare_optifik(source_dir):
                      "peak_reflectance": float(np.max(r_meas)), "in_envelope": int(index >= OPTIFIK_ENVELOPE_FROM)})
         if index in OPTIFIK_EXAMPLES:
             shown[index] = (r_meas, fit.thickness_nm, h_stated)
-    grid = np.arange(450.0, 800.0 + 1e-9, 2.0)
+    grid = np.arange(FIT_BAND_NM[0], FIT_BAND_NM[1] + 1e-9, 2.0)
     arrays = {"wavelength_nm": grid, "examples": np.array(sorted(shown)),
               "quarter_wave_R": quarter_wave_reflectance(grid)}
     for index, (r_meas, h_fit, h_st) in sorted(shown.items()):

@@ -91,7 +91,7 @@ def main(argv=None):
     ax_c.set_title("(c) thinning", loc="left")
 
     for path in style.savefig(fig, "fig_measured"):
-        print(path)
+        print(f"wrote {path}")
     return 0
 
 

@@ -30,16 +30,27 @@ def _down(x, digits=1):
     return f"{math.floor(x * f + 1e-9) / f:.{digits}f}"
 
 
+#: The stated thicknesses split into the first order (below), the agreement range and thick films (from).
+THIN_BELOW_NM = 200
+THICK_FROM_NM = 800
+
+
 def comparison(dirs):
     notes, rows = read_commented_csv(dirs["data"] / "measured" / "optifik_comparison.csv")
     st = [r for r in rows if r["stated_nm"]]
     h = np.array([float(r["stated_nm"]) for r in st])
     rel = np.array([float(r["fit_nm"]) / float(r["stated_nm"]) - 1 for r in st])
     rms = np.array([float(r["rms_fit"]) for r in st])
-    good = (h >= 200) & (h < 800)
-    thin = h < 200
-    thick = h >= 800
+    good = (h >= THIN_BELOW_NM) & (h < THICK_FROM_NM)
+    thin = h < THIN_BELOW_NM
+    thick = h >= THICK_FROM_NM
+    from study.measured import FIT_BAND_NM
+
     return {
+        "MeasThinBelowNm": str(THIN_BELOW_NM),
+        "MeasThickFromNm": str(THICK_FROM_NM),
+        "MeasBandLowNm": f"{FIT_BAND_NM[0]:g}",
+        "MeasBandHighNm": f"{FIT_BAND_NM[1]:g}",
         "MeasDate": date_of(notes),
         "MeasMachine": machine_of(notes),
         "MeasSpectra": str(len(rows)),
@@ -57,7 +68,7 @@ def comparison(dirs):
     }
 
 
-COMPARISON_MACROS = ["MeasDate", "MeasMachine", "MeasSpectra", "MeasStated", "MeasAgreeN", "MeasAgreeMaxPct",
+COMPARISON_MACROS = ["MeasThinBelowNm", "MeasThickFromNm", "MeasBandLowNm", "MeasBandHighNm", "MeasDate", "MeasMachine", "MeasSpectra", "MeasStated", "MeasAgreeN", "MeasAgreeMaxPct",
                      "MeasAgreeMedianPct", "MeasRmsMedian", "MeasRmsMax", "MeasThinN", "MeasThinMinPct",
                      "MeasThinMaxPct", "MeasThickN", "MeasThickFailN"]
 
