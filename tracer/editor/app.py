@@ -36,6 +36,7 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
+from bubbleoptics.messages import shorten
 import panel as pn
 from bokeh.events import ConnectionLost, Tap
 from bokeh.models import ColumnDataSource
@@ -50,7 +51,6 @@ from ..scene.model import Scene
 from .model import MAX_SIDE, EditorModel, FieldError, format_number
 from .preview import PreviewRenderer
 from .scheduler import scheduler
-from bubbleoptics.messages import shorten
 
 __all__ = ["EditorApp", "serve", "free_port", "MAX_SESSIONS", "MAX_SCENE_BYTES", "MAX_ASSET_BYTES",
            "MAX_IMAGE_PIXELS"]

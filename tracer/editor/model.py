@@ -28,8 +28,8 @@ import math
 import shlex
 from pathlib import Path
 
-
 from bubbleoptics.atomic import write_atomically
+from bubbleoptics.messages import shorten
 
 from ..scene.file_access import ANYWHERE, FileAccess, check_name
 from ..scene.load import load_scene
@@ -39,7 +39,6 @@ from ..movie.timeline import Timeline
 from ..rendering.api import DEFAULTS
 from ..scene.builtin import default_scene
 from ..scene.model import Bubble, Scene
-from bubbleoptics.messages import shorten
 
 __all__ = ["EditorModel", "FieldError", "FIELDS", "SETTINGS", "EDITOR_LIMITS", "MAX_SIDE", "MAX_WORK", "render_work",
            "check_field", "check_settings_field", "format_number"]

@@ -22,13 +22,6 @@ file); :meth:`Timeline.from_file` and :meth:`Timeline.from_text` call those meth
 and report every problem as :class:`CommandsError`, ``COMMANDS:LINE: what is wrong``.
 :meth:`Timeline.frames` resolves the timeline into one self-contained :class:`Frame` per
 image (the scene as it is then, and the render settings), which any process can render alone.
-
-Interpolation, per change (``t = k/K``): a move translates by ``t * d``; a scale multiplies
-sizes by ``1 + t (k - 1)`` (the radius changes linearly); a rotation turns by ``t * degrees``;
-``set``, ``light N``, ``camera position``/``look_at``/``fov`` move each number linearly from
-its value before the change to the new one; ``camera orbit`` turns by ``t * degrees``; an added
-light fades in (intensity ``t * I``) and a deleted light fades out (``(1 - t) I``, gone at the
-last frame).
 """
 
 from __future__ import annotations

@@ -1,20 +1,8 @@
 """The :class:`Timeline`: a scene and its changes, frame by frame (the coursework's ``-film``).
 
-The coursework's ``-film`` mode changed the scene between frames by the commands of a text
-file. The file, one command a line (``docs/movies.md`` has the full format and an example)::
-
-    # the coursework's scene: a bubble drifts right while the camera turns
-    render 12                      # 12 frames of the scene as loaded
-    move "пузырь 1" 200 0 0        # objects by name (quoted when they contain spaces)
-    camera orbit 15
-    render 24                      # both changes spread linearly over 24 frames
-
-``render K`` renders K frames; every change written since the previous ``render`` is spread
-linearly over them (frame k of K shows k/K of it; ``render 1`` jumps). The verbs:
-``move NAME dx dy dz``, ``scale NAME k``, ``rotate NAME ax ay az degrees``,
-``set NAME FIELD VALUE...``, ``light N x y z intensity``, ``light add x y z intensity``,
-``light delete N``, ``camera position|look_at x y z``, ``camera orbit degrees``,
-``camera fov degrees``, ``time SECONDS``.
+Each method of :class:`Timeline` is one command of the commands file (:mod:`tracer.movie.commands`
+has the format, ``docs/movies.md`` an example); ``render K`` spreads every change since the
+previous ``render`` linearly over K frames (frame k of K shows k/K of it).
 
 :class:`Timeline` is the same vocabulary as Python methods (a notebook builds one without a
 file); :meth:`Timeline.from_file` and :meth:`Timeline.from_text` call those methods line by line
@@ -40,6 +28,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bubbleoptics.messages import shorten
+
 from ..scene.block_format import LineReader, split_lines
 from ..scene.errors import SceneError
 from ..scene.limits import DISPLAY_DEFAULTS, MAX_INDEX, MAX_MAGNITUDE
@@ -48,7 +38,6 @@ from ..scene.text import read_scene_text
 from .commands import (BUBBLE_FIELDS, FIELD_ALIASES, FILM_KIND_FIELDS, PHONG_FIELDS, SWITCH_FIELDS, CommandsError,
                        dispatch, tokens)
 from .frames import Frame
-from bubbleoptics.messages import shorten
 
 __all__ = ["Timeline", "MAX_FRAMES"]
 

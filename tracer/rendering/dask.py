@@ -25,9 +25,9 @@ import sys
 import numpy as np
 
 from bubbleoptics.resources import usable_cores
+from bubbleoptics.messages import shorten
 
 from ..kernels.integrator import N_COUNTS
-from bubbleoptics.messages import shorten
 
 __all__ = ["local_cluster", "connect", "cluster_client", "render_tiles", "tile_bounds", "worker_numba_cache_stats",
            "check_cluster_options", "check_scheduler_address", "max_workers", "SCHEMES", "CONNECT_DEADLINE",

@@ -31,6 +31,7 @@ from decimal import Decimal
 import numpy as np
 
 from bubbleoptics.colorimetry import srgb_to_linear_srgb
+from bubbleoptics.messages import shorten
 
 from ..kernels.geometry import degenerate_triangles
 from .errors import SceneError, SceneWarning
@@ -49,7 +50,6 @@ from .model import (
 )
 from .file_access import ANYWHERE, FileAccess, check_name
 from .text import read_scene_text
-from bubbleoptics.messages import shorten
 
 __all__ = ["load_coursework_scene", "parse_coursework_text", "split_lines", "LineReader", "srgb8_to_linear",
            "CONCENTRIC_RTOL"]

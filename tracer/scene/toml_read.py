@@ -36,6 +36,7 @@ import numpy as np
 import tomli_w
 
 from bubbleoptics.colorimetry import srgb_to_linear_srgb
+from bubbleoptics.messages import shorten
 
 from .assets import AssetError, load_environment_image, load_film_map, load_film_series, load_mesh_file
 from ..kernels.geometry import degenerate_triangles
@@ -57,7 +58,6 @@ from .model import (
     Sphere,
 )
 from .text import read_scene_text
-from bubbleoptics.messages import shorten
 
 __all__ = ["load_toml_scene", "parse_toml_text"]
 
