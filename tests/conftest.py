@@ -22,6 +22,9 @@ from hypothesis import HealthCheck, settings
 from bubbleoptics.resources import prefer_workqueue_threads
 
 prefer_workqueue_threads()  # as the tracer command does (import bubbleoptics changes no setting)
+# One integrator with every feature serves every test scene (compiled once, not once per feature set;
+# tests/tracer/test_features.py checks that the specialised kernels give the same images).
+os.environ.setdefault("TRACER_FEATURES", "all")
 
 settings.register_profile(
     "ci",

@@ -162,6 +162,17 @@ def build_parser():
     res.add_argument("--json", action="store_true", help="print one JSON object")
     _add_render_options(res)
     _add_movie_commands(sub, epilog)
+    wu = sub.add_parser("warmup", help="compile the renderer ahead, for these scenes' features (clusters, CI images)",
+                        description="Compile, into numba's on-disk cache, the renderer each SCENE needs (its "
+                                    "features: meshes, spherical lights, films, Phong materials, films beyond the "
+                                    "lossless Airy film), so that the first render of such a scene starts at once.",
+                        epilog=epilog)
+    wu.add_argument("scenes", nargs="*", metavar="SCENE",
+                    help="scene files (TOML or the coursework's text format; default: the built-in scene)")
+    wu.add_argument("--all", action="store_true",
+                    help="also the renderer with every feature (what TRACER_FEATURES=all renders every scene with)")
+    wu.add_argument("--spectral", action="store_true",
+                    help="also the variants that keep a per-band image (--spectral-out, .npz outputs)")
     ed = sub.add_parser("edit", help="the scene editor in the browser (needs the editor extra: panel)",
                         description="Serve the scene editor for SCENE (or the built-in bubble scene) at "
                                     "http://ADDRESS:PORT/ until Ctrl-C or SIGTERM (docs/editor.md).")
@@ -318,6 +329,45 @@ def _resolve_settings(args, scene, spectral_image=False):
     return resolve_settings(scene, names=names, spectral_image=spectral_image, **given)
 
 
+def _warmup(args):
+    """``tracer warmup``: compile the renderer of each scene's feature set (once each)."""
+    import time
+
+    from .kernels.integrator import FEATURES, scene_features
+    from .prepare.pack import pack_scene
+    from .rendering.api import render_with_stats, resolve_settings
+    from .rendering.local import is_compiled, warm_up
+    from .rendering.output import display_codes
+    from .scene.builtin import default_scene
+    from .scene.errors import SceneError
+
+    try:
+        scenes = [_load_scene(path) for path in args.scenes] or [default_scene()]
+    except SceneError as err:
+        return _fail(str(err))
+    jobs = {}  # (features, per-band image) -> a packed scene to compile it with
+    for scene in scenes:
+        s = resolve_settings(scene)
+        packed = pack_scene(scene, spectral_samples=s["spectral_samples"], spectral_method=s["spectral_method"])
+        for features in [scene_features(packed)] + ([(True,) * len(FEATURES)] if args.all else []):
+            for spectral_image in (False, True) if args.spectral else (False,):
+                jobs.setdefault((features, spectral_image), packed)
+    for (features, spectral_image), packed in jobs.items():
+        what = ", ".join(n for n, f in zip(FEATURES, features) if f is not None) or "none"
+        what += " + per-band image" if spectral_image else ""
+        if is_compiled(packed, spectral_image, features):
+            print(f"tracer warmup: {what}: already compiled")
+            continue
+        print(f"tracer warmup: {what}: compiling ...", flush=True)
+        t0 = time.perf_counter()
+        warm_up(packed, spectral_image=spectral_image, features=features)
+        print(f"tracer warmup: {what}: compiled in {time.perf_counter() - t0:.0f} s", flush=True)
+    # the rest of a render (packing's spectra, the PNG encoding): a tiny render of each scene
+    for scene in scenes:
+        display_codes(render_with_stats(scene, width=4, height=4, progress=False)[0])
+    return 0
+
+
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, the shells' convention
 
 
@@ -346,6 +396,8 @@ def _main(argv=None):
         return _movie(args)
     if args.command == "edit":
         return _edit(args)
+    if args.command == "warmup":
+        return _warmup(args)
     from .rendering.dask import check_cluster_options, cluster_client
     from .scene.errors import SceneError
     from .rendering.output import save_spectral

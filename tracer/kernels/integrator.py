@@ -69,6 +69,8 @@ __all__ = [
     "sphere_light",
     "trace_camera_ray",
     "render_rows",
+    "scene_features",
+    "FEATURES",
 ]
 
 #: The per-ray functions are compiled without numba's reference counting (``_nrt=False``): they
@@ -146,7 +148,7 @@ def new_workspace(scene, depth, cancel):
 
 
 @njit(**JIT_INLINE)
-def closest_hit(scene, ws, o, d, tmin, tmax, skip):
+def closest_hit(scene, ws, o, d, tmin, tmax, skip, mesh):
     """``(geometry kind, index, t, entering)`` of the nearest surface along o + t d with
     tmin < t < tmax; kind :data:`GEOM_NONE` and t = tmax when there is none.  Sphere *skip*
     (-1: none) is not tested: a ray leaving a sphere outward cannot meet it again."""
@@ -163,7 +165,7 @@ def closest_hit(scene, ws, o, d, tmin, tmax, skip):
         t, ent = intersect_sphere(o, d, (c[0], c[1], c[2]), s.radius, tmin, best)
         if t < best:
             best, kind, idx, entering = t, GEOM_SPHERE, i, ent
-    if scene.tris.shape[0] > 0:
+    if mesh is not None and scene.tris.shape[0] > 0:  # (no meshes: pruned when compiled)
         t, ti, _, _ = intersect_bvh(o, d, tmin, best, scene.bvh_bounds, scene.bvh_child, scene.bvh_first,
                                     scene.bvh_count, scene.tris, ws.bvh_stack)
         if t < best:
@@ -174,7 +176,7 @@ def closest_hit(scene, ws, o, d, tmin, tmax, skip):
 
 
 @njit(**JIT_INLINE)
-def surface_at(scene, kind, idx, o, d, t):
+def surface_at(scene, kind, idx, o, d, t, mesh):
     """``(surface kind, surface index, point, outward unit normal)`` of a hit (sphere hit
     points re-projected onto the sphere).
 
@@ -182,7 +184,7 @@ def surface_at(scene, kind, idx, o, d, t):
     (``triangles[idx].smooth``) the interpolated vertex normal
     (:func:`tracer.kernels.geometry.shading_normal`), which is on the same side of the ray as the
     geometric one (:func:`offset_normal` gives that one for the ray origins)."""
-    if kind == GEOM_SPHERE:
+    if mesh is None or kind == GEOM_SPHERE:
         s = scene.spheres[idx]
         c = s.center
         p, n = sphere_hit_point(o, d, t, (c[0], c[1], c[2]), s.radius)
@@ -202,12 +204,12 @@ def surface_at(scene, kind, idx, o, d, t):
 
 
 @njit(**JIT_INLINE)
-def offset_normal(scene, kind, idx, nf, sgn):
+def offset_normal(scene, kind, idx, nf, sgn, mesh):
     """The unit normal, facing the incoming ray, along which the new rays of a hit start
     (:func:`tracer.kernels.geometry.offset_origin`): *nf* (the facing normal from :func:`surface_at`
     turned by *sgn*) on a sphere, the geometric normal turned by *sgn* on a triangle, so that
     a smooth triangle's tilted shading normal never moves an origin off its side of the plane."""
-    if kind == GEOM_TRIANGLE:
+    if mesh is not None and kind == GEOM_TRIANGLE:
         g = scene.triangles[idx].normal
         return (sgn * g[0], sgn * g[1], sgn * g[2])
     return nf
@@ -258,7 +260,7 @@ def direction_terms(u, nf, d):
 
 
 @njit(**JIT_INLINE)
-def shadow_transmittance(scene, ws, p, lpos, trans):
+def shadow_transmittance(scene, ws, p, lpos, trans, mesh, film, phong, xfilm):
     """Transmittance per channel (into *trans*) from *p* to the light at *lpos*; False if zero."""
     dx = lpos[0] - p[0]
     dy = lpos[1] - p[1]
@@ -268,11 +270,11 @@ def shadow_transmittance(scene, ws, p, lpos, trans):
         for c in range(trans.shape[0]):
             trans[c] = 1.0
         return True
-    return shadow_along(scene, ws, p, (dx / dist, dy / dist, dz / dist), dist, trans)
+    return shadow_along(scene, ws, p, (dx / dist, dy / dist, dz / dist), dist, trans, mesh, film, phong, xfilm)
 
 
 @njit(**JIT_INLINE)
-def shadow_along(scene, ws, p, d, dist, trans):
+def shadow_along(scene, ws, p, d, dist, trans, mesh, film, phong, xfilm):
     """Transmittance per channel (into *trans*) of the shadow ray from *p* along the unit
     direction *d* up to the distance *dist* (may be inf); False if zero."""
     for c in range(trans.shape[0]):
@@ -280,12 +282,12 @@ def shadow_along(scene, ws, p, d, dist, trans):
     ws.counts[3] += 1
     tstart = 0.0
     for _ in range(MAX_SHADOW_CROSSINGS):
-        kind, idx, t, entering = closest_hit(scene, ws, p, d, tstart, dist, -1)
+        kind, idx, t, entering = closest_hit(scene, ws, p, d, tstart, dist, -1, mesh)
         if kind == GEOM_NONE:
             return True
-        skind, sidx, q, n = surface_at(scene, kind, idx, p, d, t)
+        skind, sidx, q, n = surface_at(scene, kind, idx, p, d, t, mesh)
         cos_i = abs(d[0] * n[0] + d[1] * n[1] + d[2] * n[2])
-        if not surfaces.shadow(scene, ws, skind, sidx, n, cos_i, entering, trans):
+        if not surfaces.shadow(scene, ws, skind, sidx, n, cos_i, entering, trans, film, phong, xfilm):
             return False
         tstart = t + scene.eps
         alive = False
@@ -297,8 +299,8 @@ def shadow_along(scene, ws, p, d, dist, trans):
     return True
 
 
-@njit(**JIT_INLINE)
-def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold):
+@njit(**JIT_NO_NRT)  # not inlined: a scene without spherical lights never compiles it
+def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold, mesh, film, phong, xfilm):
     """Add to ``ws.L`` what spherical light *j* (centre *c*) sends to the viewer from the hit
     *hit* at *p* (surface *skind*, *sidx*; facing normal *nf*, incoming direction *d*) for
     throughput *w*: ``S · 2/(1 + cos α) · (1/N) Σ_k f(ω_k) V(ω_k)`` over N directions ω_k
@@ -355,7 +357,7 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, v
     for k in range(n):
         om = cone_sample(key, stream, k, n, axis, b1, b2, one_minus_cos)
         ndl, rv = direction_terms(om, nf, d)
-        if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w):
+        if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w, film, phong):
             continue
         if threshold > 0.0:
             bound = 0.0
@@ -367,7 +369,7 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, v
         b = om[0] * cx + om[1] * cy + om[2] * cz
         disc = max(0.0, b * b - (d2 - a2))  # >= 0 inside the cone, up to rounding at its rim
         t = b + math.sqrt(disc) if inside else max(0.0, b - math.sqrt(disc))
-        if shadow_along(scene, ws, p_front, om, t, trans):
+        if shadow_along(scene, ws, p_front, om, t, trans, mesh, film, phong, xfilm):
             for ch in range(nc):
                 L[ch] += w[ch] * light_w[ch] * (rad[j, ch] * scale) * trans[ch]
 
@@ -411,7 +413,7 @@ def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, 
 
 
 @njit(inline="always", **JIT_NO_NRT)
-def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
+def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key, mesh, area, film, phong, xfilm):
     """Radiance per channel into ``ws.L`` of the camera ray (o0, d0), whose nearest hit *hit0*
     (from :func:`closest_hit`) is already known and is not a miss.
 
@@ -455,29 +457,30 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
             kind, idx, t, entering = hit0
             first = False
         else:
-            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip)
+            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip, mesh)
         if kind == GEOM_NONE:
             add_environment(scene, L, w, ws.ones, d)
             continue
-        skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t)
+        skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t, mesh)
         dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
         cos_g = abs(dn)  # geometric cos(theta), for directions
         sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
         nf = (sgn * n[0], sgn * n[1], sgn * n[2])
-        nfo = offset_normal(scene, kind, idx, nf, sgn)  # the geometric side, for ray origins
+        nfo = offset_normal(scene, kind, idx, nf, sgn, mesh)  # the geometric side, for ray origins
         on_sphere = kind == GEOM_SPHERE
         cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
         hit = (p, n, nf, d, cos_i, entering)
-        tdir = surfaces.scatter(scene, ws, skind, sidx, hit)
+        tdir = surfaces.scatter(scene, ws, skind, sidx, hit, film, phong, xfilm)
         p_front = offset_origin(p, nfo, eps)
         # local terms: ambient and the lights
-        surfaces.ambient(scene, skind, sidx, w, L)
+        surfaces.ambient(scene, skind, sidx, w, L, film, phong)
         for j in range(lights.shape[0]):
             lt = lights[j]
             lp = lt.position
             lpos = (lp[0], lp[1], lp[2])
-            if lt.radius > 0.0:
-                sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold)
+            if area is not None and lt.radius > 0.0:  # (no spherical lights: pruned when compiled)
+                sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold,
+                             mesh, film, phong, xfilm)
                 continue
             scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" leaves it unchanged
             if lt.falloff == FALLOFF_INVERSE_SQUARE:
@@ -486,7 +489,7 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
                     continue  # a light on the surface lights nothing (light_terms) and makes no inf
                 scale = 1.0 / r2
             ndl, rv = light_terms(lpos, p, nf, d)
-            if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w):
+            if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w, film, phong):
                 continue
             if threshold > 0.0:
                 bound = 0.0
@@ -494,7 +497,7 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
                     bound = max(bound, w[c] * light_w[c] * (rad[j, c] * scale))
                 if bound <= threshold:
                     continue  # this light can add at most `threshold` here: pruned
-            if shadow_transmittance(scene, ws, p_front, lpos, trans):
+            if shadow_transmittance(scene, ws, p_front, lpos, trans, mesh, film, phong, xfilm):
                 for c in range(nc):
                     L[c] += w[c] * light_w[c] * (rad[j, c] * scale) * trans[c]
         vertex += 1
@@ -523,7 +526,7 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key):
 
 
 @njit(**JIT_NO_NRT)
-def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, image, counts, spectrum):
+def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, image, counts, spectrum, mesh, area, film, phong, xfilm):
     """Render image row *y* into row ``y - row0`` of *image*, *counts* and *spectrum* (see
     :func:`render_rows`) with the thread's workspace *ws*."""
     cam = scene.camera[0]
@@ -552,7 +555,7 @@ def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, i
             fx, fy = stratified_offset(seed, pix, s, spp)
             d0 = camera_ray(cam, x + fx, y + fy, width, height)
             ray_counts[0] += 1
-            hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf, -1)
+            hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf, -1, mesh)
             if hit0[0] == GEOM_NONE:
                 # a camera ray that meets nothing: the environment, straight to RGB
                 er, eg, eb = environment_rgb(env, scene.env_image, d0)
@@ -563,7 +566,7 @@ def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, i
                     for c in range(nc):
                         spectrum[iy, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
                 continue
-            trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, sample_key(seed, pix, s))
+            trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, sample_key(seed, pix, s), mesh, area, film, phong, xfilm)
             for c in range(nc):
                 r += to_rgb[0, c] * L[c]
                 g += to_rgb[1, c] * L[c]
@@ -581,9 +584,44 @@ def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, i
         counts[iy, i] = ray_counts[i]
 
 
+#: The features a scene may use, in the order :func:`render_rows` takes their flags.  Each flag is
+#: None when the scene has no such feature, and numba then compiles the render without its code
+#: (the same pruning as ``spectrum=None``): a first render compiles only what its scene uses, and
+#: each combination is cached on disk on its own.
+FEATURES = ("mesh", "area", "film", "phong", "xfilm")
+
+
+def scene_features(scene) -> tuple:
+    """The feature flags of the packed scene *scene* (:data:`FEATURES`; True or None each):
+
+    * ``mesh``: it has triangles (the BVH, mesh shading);
+    * ``area``: a light has a radius (spherical lights and their sampled shadows);
+    * ``film``, ``phong``: a sphere or a triangle carries a soap film, a Phong material;
+    * ``xfilm``: a film beyond the lossless Airy film at the band centres (the two-beam model,
+      band averages, an absorbing film).
+
+    With the environment variable ``TRACER_FEATURES=all`` every flag is True: one kernel, compiled
+    once, serves every scene (for a machine that renders many kinds of scene, and the tests).
+    """
+    import os
+
+    from .records import FILM_MODEL_TWO_BEAM, SURFACE_FILM, SURFACE_PHONG
+
+    if os.environ.get("TRACER_FEATURES", "") == "all":
+        return (True,) * len(FEATURES)
+
+    kinds = set(scene.spheres["surface"].tolist()) | set(scene.triangles["surface"].tolist())
+    films = scene.films
+    xfilm = scene.band_mode == 1 or bool((films["model"] == FILM_MODEL_TWO_BEAM).any()) or \
+        not bool(films["lossless"].all())
+    flags = (scene.tris.shape[0] > 0, bool((scene.lights["radius"] > 0.0).any()), SURFACE_FILM in kinds,
+             SURFACE_PHONG in kinds, SURFACE_FILM in kinds and xfilm)
+    return tuple(True if on else None for on in flags)
+
+
 @njit(parallel=True, nogil=True, **JIT)
 def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, depth, threshold, image, counts,
-                spectrum, cancel):
+                spectrum, cancel, mesh, area, film, phong, xfilm):
     """Render the rows ``rows`` (int64, distinct, any order, each from *row0* to
     ``row0 + image.shape[0] - 1``) of the (height, width) image into ``image`` (rows, width, 3:
     linear sRGB; image row *y* at ``image[y - row0]``) and their ray counts into ``counts``
@@ -597,6 +635,9 @@ def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, dept
     the RGB-only render carries no per-channel code (a run-time test instead would cost every
     RGB render a measurable share on the coursework's small scenes, ``benchmarks/throughput.py``);
     the first per-channel render after installing compiles its own variant.
+
+    *mesh*, *area*, *film*, *phong*, *xfilm*: the scene's feature flags (:func:`scene_features`);
+    a flag that is None compiles the render without that feature's code.
 
     ``cancel`` (1,) int64: every thread stops at its next ray once ``cancel[0]`` is non-zero
     (set by another Python thread: this kernel releases the GIL), leaving the image partial.
@@ -612,4 +653,5 @@ def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, dept
     for task in prange(n_tasks):
         ws = new_workspace(scene, depth, cancel)
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
-            render_row(scene, ws, rows[k], row0, width, height, spp, seed, depth, threshold, image, counts, spectrum)
+            render_row(scene, ws, rows[k], row0, width, height, spp, seed, depth, threshold, image, counts, spectrum,
+                       mesh, area, film, phong, xfilm)

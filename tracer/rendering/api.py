@@ -112,7 +112,8 @@ def render_with_stats(
     show = sys.stderr.isatty() if progress is None else progress
     t0 = time.perf_counter()
     if client is None:
-        warm_up(packed)
+        # a first render says that it compiles (unless progress=False)
+        warm_up(packed, notice=None if progress is False else (lambda line: print(line, file=sys.stderr, flush=True)))
         t0 = time.perf_counter()
         image, counts, spectrum = render_here(packed, s, 0, height, spectral_image, show, cancel)
     else:

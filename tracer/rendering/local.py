@@ -11,10 +11,10 @@ import time
 
 import numpy as np
 
-from ..kernels.integrator import N_COUNTS, render_rows
+from ..kernels.integrator import N_COUNTS, render_rows, scene_features
 from ..kernels.records import PackedScene
 
-__all__ = ["render_in_parts", "render_here", "render_tile", "warm_up", "RenderCancelled", "PARALLEL_LOCK",
+__all__ = ["render_in_parts", "render_here", "render_tile", "warm_up", "is_compiled", "feature_names", "COMPILE_NOTICE", "RenderCancelled", "PARALLEL_LOCK",
            "spread_rows", "ROWS_PER_TASK", "PROGRESS_AFTER", "CALL_SECONDS"]
 
 
@@ -62,7 +62,7 @@ def spread_rows(rows):
 
 
 def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
-               spectrum=None, row0=0, stop=None):
+               spectrum=None, row0=0, stop=None, features=None):
     """Render the rows *rows* into ``image[rows - row0]`` and ``counts[rows - row0]`` (and
     ``spectrum[rows - row0]``, (rows, width, C), unless it is None: the kernel's per-band code is then pruned when numba compiles it).
 
@@ -70,13 +70,15 @@ def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thresh
     Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
     threads to stop at their next ray, and raises ``KeyboardInterrupt`` (the partial image is
     the caller's to discard).  *stop* (see :func:`_cancelled`) is polled the same way: when
-    it asks, the kernel is stopped likewise and :class:`RenderCancelled` raised.
+    it asks, the kernel is stopped likewise and :class:`RenderCancelled` raised.  *features*: the
+    kernel's feature flags (default: the scene's, :func:`tracer.kernels.integrator.scene_features`).
     """
     import numba
 
     if _cancelled(stop):  # between calls: stop before starting the next one
         raise RenderCancelled("render cancelled")
     cancel = np.zeros(1, dtype=np.int64)
+    features = scene_features(packed) if features is None else features
     failure = []
     done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early
 
@@ -84,7 +86,7 @@ def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thresh
         try:
             with numba.parallel_chunksize(1):
                 render_rows(packed, spread_rows(rows), row0, ROWS_PER_TASK, width, height, spp, seed, depth,
-                            threshold, image, counts, spectrum, cancel)
+                            threshold, image, counts, spectrum, cancel, *features)
         except BaseException as exc:  # re-raised in the calling thread
             failure.append(exc)
         finally:
@@ -116,10 +118,53 @@ def _interleaved(height, n_parts):
     return [np.arange(p, height, n_parts, dtype=np.int64) for p in range(n_parts)]
 
 
-def warm_up(packed: PackedScene):
-    """Compile (or load from numba's cache) the integrator for this scene on a 1x1 image."""
+def _warm_up_arguments(packed: PackedScene, spectral_image=False, features=None):
+    """The arguments of the integrator's 1x1 render that compiles it for *packed*."""
+    spectrum = np.zeros((1, 1, packed.rgb_basis.shape[0])) if spectral_image else None
+    features = scene_features(packed) if features is None else features
+    return (packed, np.zeros(1, dtype=np.int64), 0, ROWS_PER_TASK, 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
+            np.zeros((1, N_COUNTS), dtype=np.int64), spectrum, np.zeros(1, dtype=np.int64), *features)
+
+
+def is_compiled(packed: PackedScene, spectral_image=False, features=None) -> bool:
+    """Whether the integrator that *packed* needs (its features, :func:`tracer.kernels.integrator.scene_features`,
+    with or without a per-band image; *features* to ask for other flags) is compiled in this process or in numba's on-disk cache,
+    so that the next render starts at once.  True when it cannot tell (numba's cache layout is
+    its own)."""
+    import numba
+
+    try:
+        sig = tuple(numba.typeof(a) for a in _warm_up_arguments(packed, spectral_image, features))
+        if any(tuple(key) == sig for key in render_rows.overloads):
+            return True
+        index = render_rows._cache._cache_file._load_index()
+        return any(tuple(getattr(key[0], "args", key[0])) == sig for key in index)
+    except Exception:  # another numba's internals: say nothing rather than guess
+        return True
+
+
+#: What a render says when it has to compile first (:func:`warm_up`).
+COMPILE_NOTICE = ("tracer: compiling the renderer for this scene's features ({features}) on this machine, "
+                  "once: a minute or two; later runs load it from numba's cache (tracer warmup compiles ahead)")
+
+
+def feature_names(packed: PackedScene) -> list:
+    """The names of the features *packed* uses (:data:`tracer.kernels.integrator.FEATURES`)."""
+    from ..kernels.integrator import FEATURES
+
+    return [name for name, flag in zip(FEATURES, scene_features(packed)) if flag is not None]
+
+
+def warm_up(packed: PackedScene, notice=None, spectral_image=False, features=None):
+    """Compile (or load from numba's cache) the integrator for this scene on a 1x1 image (with a
+    per-band image too if *spectral_image*).  When it is not compiled yet and *notice* is given
+    (a callable taking a line of text), say so first.  *features*: other flags than the scene's
+    (:func:`tracer.kernels.integrator.scene_features`; ``tracer warmup --all``)."""
+    if notice is not None and not is_compiled(packed, spectral_image, features):
+        notice(COMPILE_NOTICE.format(features=", ".join(feature_names(packed)) or "none"))
+    spectrum = np.zeros((1, 1, packed.rgb_basis.shape[0])) if spectral_image else None
     rows_call(packed, np.zeros(1, dtype=np.int64), 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
-               np.zeros((1, N_COUNTS), dtype=np.int64))
+              np.zeros((1, N_COUNTS), dtype=np.int64), spectrum, features=features)
 
 
 def render_in_parts(packed: PackedScene, s, row0=0, row1=None, spectral_image=False, stop=None,

@@ -37,37 +37,43 @@ __all__ = ["ambient", "toward_light", "scatter", "shadow"]
 
 
 @njit(**JIT_INLINE)
-def ambient(scene, kind, index, w, L):
+def ambient(scene, kind, index, w, L, film, phong):
     """Add the surface's ambient term for throughput *w* to *L* (per channel)."""
-    if kind != SURFACE_FILM:
+    if phong is not None and (film is None or kind != SURFACE_FILM):
         phong_ambient(scene, index, w, L)
 
 
 @njit(**JIT_INLINE)
-def toward_light(scene, ws, kind, index, hit, ndl, rv, out):
+def toward_light(scene, ws, kind, index, hit, ndl, rv, out, film, phong):
     """Per unit of a light's strength, what the surface sends to the viewer (per channel, into
     *out*); *ndl* = N·L with the facing normal, *rv* = R·V of the light's mirror direction
     (0 when the light is behind).  False: nothing (and no shadow ray needed).  A spherical
     light asks once per sample direction, with that direction's N·L and R·V
     (:func:`tracer.kernels.integrator.sphere_light`)."""
-    if kind == SURFACE_FILM:
+    if film is not None and (phong is None or kind == SURFACE_FILM):
         return film_toward_light(scene, ws, index, hit, ndl, rv, out)
-    return phong_toward_light(scene, ws, index, hit, ndl, rv, out)
+    if phong is not None:
+        return phong_toward_light(scene, ws, index, hit, ndl, rv, out)
+    return False
 
 
 @njit(**JIT_INLINE)
-def scatter(scene, ws, kind, index, hit):
+def scatter(scene, ws, kind, index, hit, film, phong, xfilm):
     """The hit's two children: weights ``ws.wr`` (mirror) and ``ws.wt`` (transmitted), their
     cut factors ``ws.cut_r``, ``ws.cut_t``; returns the transmitted direction."""
-    if kind == SURFACE_FILM:
-        return film_scatter(scene, ws, index, hit)
-    return phong_scatter(scene, ws, index, hit)
+    if film is not None and (phong is None or kind == SURFACE_FILM):
+        return film_scatter(scene, ws, index, hit, xfilm)
+    if phong is not None:
+        return phong_scatter(scene, ws, index, hit)
+    return hit[3]
 
 
 @njit(**JIT_INLINE)
-def shadow(scene, ws, kind, index, n, cos_i, entering, trans):
+def shadow(scene, ws, kind, index, n, cos_i, entering, trans, film, phong, xfilm):
     """A shadow ray crossing the surface: multiply *trans* (per channel) by its transmittance;
     False if the surface is opaque."""
-    if kind == SURFACE_FILM:
-        return film_shadow(scene, ws, index, n, cos_i, entering, trans)
-    return phong_shadow(scene, ws, index, n, cos_i, entering, trans)
+    if film is not None and (phong is None or kind == SURFACE_FILM):
+        return film_shadow(scene, ws, index, n, cos_i, entering, trans, xfilm)
+    if phong is not None:
+        return phong_shadow(scene, ws, index, n, cos_i, entering, trans)
+    return True

@@ -68,7 +68,7 @@ _SPEC_MIN = 1e-12
 _LOG_SPEC_MIN = math.log(_SPEC_MIN)
 
 @njit(**JIT_INLINE)
-def film_optics(scene, ws, b, n_out, cos_i, R, T):
+def film_optics(scene, ws, b, n_out, cos_i, R, T, xfilm):
     """Fill R[c], T[c] (unpolarized, per channel) of film *b* at the point with outward unit
     normal *n_out*, met at cos(theta) = *cos_i*.
 
@@ -82,6 +82,10 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
     last R, T as well.  The integrator hands every hit at the end of a chord the exact cos of
     its start (:func:`tracer.kernels.integrator.trace_camera_ray`), so the exit hit and every inner
     bounce of a path find them (exact equality, no tolerance).
+
+    *xfilm* None: the scene has only lossless Airy films at the band centres, and the other
+    paths (two-beam, band averages, absorbing films) are not compiled
+    (:func:`tracer.kernels.integrator.scene_features`).
     """
     f = scene.films[b]
     nc = R.shape[0]
@@ -93,6 +97,14 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
             T[c] = ft[b, c]
         return
     d_nm = film_thickness(f, scene.film_maps, n_out)
+    if xfilm is None:  # lossless Airy films at the band centres only (pruned when compiled)
+        if ws.film_coef_cos[b] != cos_i:
+            free_film_setup_bands_nb(scene.wavelengths, scene.film_n[b], cos_i, 1.0, ws.free_kq[b], ws.free_Fs[b],
+                                     ws.free_Fp[b])
+            ws.film_coef_cos[b] = cos_i
+        free_film_evaluate_bands_nb(ws.free_kq[b], ws.free_Fs[b], ws.free_Fp[b], d_nm, POL_UNPOLARIZED, R, T)
+        _keep_uniform(ws, f, b, cos_i, R, T)
+        return
     if f.model == FILM_MODEL_TWO_BEAM:
         _two_beam_optics(scene, ws, b, d_nm, cos_i, R, T)
         return
@@ -140,11 +152,17 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T):
             r, t = film_evaluate_nb(coef[b, c], d_nm, POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
+    _keep_uniform(ws, f, b, cos_i, R, T)
+
+
+@njit(**JIT_INLINE)
+def _keep_uniform(ws, f, b, cos_i, R, T):
+    """A uniform film keeps its last R, T (per channel) and the cos they are for."""
     if f.uniform:
         ws.film_rt_cos[b] = cos_i
         fr = ws.film_R
         ft = ws.film_T
-        for c in range(nc):
+        for c in range(R.shape[0]):
             fr[b, c] = R[c]
             ft[b, c] = T[c]
 
@@ -163,15 +181,11 @@ def _two_beam_optics(scene, ws, b, d_nm, cos_i, R, T):
         r = min(1.0, two_beam_r_nb(wl[c], d_nm, cos_i, 1.0, complex(fn[b, c], 0.0), POL_UNPOLARIZED))
         R[c] = r
         T[c] = 1.0 - r
-    if f.uniform:
-        ws.film_rt_cos[b] = cos_i
-        for c in range(R.shape[0]):
-            ws.film_R[b, c] = R[c]
-            ws.film_T[b, c] = T[c]
+    _keep_uniform(ws, f, b, cos_i, R, T)
 
 
 @njit(**JIT_INLINE)
-def film_scatter(scene, ws, b, hit):
+def film_scatter(scene, ws, b, hit, xfilm):
     """The two children of a film hit: their weights per channel into ``ws.wr`` (mirror: R)
     and ``ws.wt`` (straight on: T), and into ``ws.cut_r``, ``ws.cut_t`` the factors a cut
     child's environment lookup is multiplied by: :math:`T/(1-R)` for the child that stays
@@ -180,13 +194,13 @@ def film_scatter(scene, ws, b, hit):
     p, n, nf, d, cos_i, entering = hit
     wr = ws.wr
     wt = ws.wt
-    film_optics(scene, ws, b, n, cos_i, wr, wt)
-    lossless = scene.films[b].lossless
+    film_optics(scene, ws, b, n, cos_i, wr, wt, xfilm)
+    lossless = xfilm is None or scene.films[b].lossless
     cut_r = ws.cut_r
     cut_t = ws.cut_t
     for c in range(wr.shape[0]):
         inner = 1.0
-        if not lossless:
+        if xfilm is not None and not lossless:
             rest = 1.0 - wr[c]
             inner = min(1.0, wt[c] / rest) if rest > 0.0 else 1.0
         if entering:
@@ -217,10 +231,10 @@ def film_toward_light(scene, ws, b, hit, ndl, rv, out):
 
 
 @njit(**JIT_INLINE)
-def film_shadow(scene, ws, b, n, cos_i, entering, trans):
+def film_shadow(scene, ws, b, n, cos_i, entering, trans, xfilm):
     """A shadow ray crossing film *b*: ``trans *= T`` (per channel); True (a film never stops one)."""
     T = ws.T_shadow
-    film_optics(scene, ws, b, n, cos_i, ws.R_shadow, T)
+    film_optics(scene, ws, b, n, cos_i, ws.R_shadow, T, xfilm)
     for c in range(trans.shape[0]):
         trans[c] *= T[c]
     return True
