@@ -25,7 +25,19 @@ from .film import film_reflectance, film_rt, film_transmittance, two_beam_reflec
 from .fresnel import FresnelCoefficients, fresnel_coefficients
 from .multilayer import multilayer_reflectance, multilayer_rt, multilayer_transmittance
 
-__version__ = "0.1.0"
+
+
+def _installed_version() -> str:
+    """The version of the installed distribution (pyproject.toml's, the one source)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("bubbleoptics")
+    except PackageNotFoundError:  # a source tree that is not installed
+        return "0+unknown"
+
+
+__version__ = _installed_version()
 
 __all__ = [
     "film_reflectance",

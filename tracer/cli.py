@@ -123,12 +123,14 @@ def _add_render_options(p, movie=False):
 
 
 def _version():
+    """The installed distribution's version (pyproject.toml's, the one source; bubbleoptics.__version__
+    reads the same), without importing the package: the parser is built before anything heavy."""
     from importlib.metadata import PackageNotFoundError, version
 
     try:
         return version("bubbleoptics")
-    except PackageNotFoundError:  # run from a source tree that is not installed
-        return "unknown (not installed)"
+    except PackageNotFoundError:  # a source tree that is not installed
+        return "0+unknown"
 
 
 def build_parser():
