@@ -1,4 +1,4 @@
-"""Measured soap films against the exact optics and the film-flow laws (issue 23, "Measurement").
+"""Measured soap films against the exact optics and the film-flow laws (the paper's Measurement section).
 
 The measurements are white-light reflection spectra of horizontal foam films of TTAB and other
 surfactant solutions, published with the thickness their authors deduced from each spectrum

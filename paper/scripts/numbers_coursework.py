@@ -1,4 +1,4 @@
-"""Macros of the coursework chapter (issue 13): timing spread, thread scaling, the interval of b,
+"""Macros of the coursework chapter: timing spread, thread scaling, the interval of b,
 rays per level of the two bubble models.  A plug-in of ``make_numbers.py`` (``SECTIONS``, ``FLAGS``).
 
 * ``courseworkspread``, ``courseworkthreads``: ``data/derived/coursework_table.csv``

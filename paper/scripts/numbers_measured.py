@@ -1,4 +1,4 @@
-"""The numbers of the measurement comparison (issue 23), a plug-in of make_numbers.py.
+"""The numbers of the measurement comparison, a plug-in of make_numbers.py.
 
 * ``measured``: ``data/measured/optifik_comparison.csv`` (``python -m study.measured``): the TTAB
   film of Ziapkoff et al. (2026) against the exact optics: how many spectra, the agreement with
