@@ -273,7 +273,7 @@ def shadow_transmittance(scene, ws, p, lpos, trans, mesh, film, phong, xfilm):
     return shadow_along(scene, ws, p, (dx / dist, dy / dist, dz / dist), dist, trans, mesh, film, phong, xfilm)
 
 
-@njit(**JIT_INLINE)
+@njit(**JIT_NO_NRT)  # not inlined: one compiled shadow path for point and spherical lights
 def shadow_along(scene, ws, p, d, dist, trans, mesh, film, phong, xfilm):
     """Transmittance per channel (into *trans*) of the shadow ray from *p* along the unit
     direction *d* up to the distance *dist* (may be inf); False if zero."""
