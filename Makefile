@@ -22,10 +22,12 @@ $(STAMP): $(BASE)
 	touch $(STAMP)
 
 ## make demo: the main job: render the built-in bubble scene (960x960), plus the thin-film plots.
+## The plots and the render run side by side (the first render's compile is one core's work).
 demo: $(BASE)
 	mkdir -p demo-output
-	$(PY) -m bubbleoptics.demo --out demo-output
-	$(PY) -m tracer image demo-output/bubbles.png
+	$(PY) -m bubbleoptics.demo --out demo-output & plots=$$!; \
+	$(PY) -m tracer image demo-output/bubbles.png; status=$$?; \
+	wait $$plots && exit $$status
 	@echo "$(CURDIR)/demo-output/bubbles.png"
 
 ## make activate: print the line that puts `tracer` (and the venv's python) on this shell's PATH.
