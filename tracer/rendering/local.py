@@ -78,15 +78,15 @@ def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thresh
     if _cancelled(stop):  # between calls: stop before starting the next one
         raise RenderCancelled("render cancelled")
     cancel = np.zeros(1, dtype=np.int64)
-    features = scene_features(packed) if features is None else features
+    arguments = _kernel_arguments(packed, spread_rows(rows), width, height, spp, seed, depth, threshold, image, counts,
+                                  spectrum, row0, cancel, features)
     failure = []
     done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early
 
     def work():
         try:
             with numba.parallel_chunksize(1):
-                render_rows(packed, spread_rows(rows), row0, ROWS_PER_TASK, width, height, spp, seed, depth,
-                            threshold, image, counts, spectrum, cancel, *features)
+                render_rows(*arguments)
         except BaseException as exc:  # re-raised in the calling thread
             failure.append(exc)
         finally:
@@ -118,12 +118,20 @@ def _interleaved(height, n_parts):
     return [np.arange(p, height, n_parts, dtype=np.int64) for p in range(n_parts)]
 
 
-def _warm_up_arguments(packed: PackedScene, spectral_image=False, features=None):
-    """The arguments of the integrator's 1x1 render that compiles it for *packed*."""
-    spectrum = np.zeros((1, 1, packed.rgb_basis.shape[0])) if spectral_image else None
+def _kernel_arguments(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0,
+                      cancel, features):
+    """The arguments of :func:`tracer.kernels.integrator.render_rows` for a :func:`rows_call` with
+    these (*features* None: the scene's, :func:`tracer.kernels.integrator.scene_features`)."""
     features = scene_features(packed) if features is None else features
-    return (packed, np.zeros(1, dtype=np.int64), 0, ROWS_PER_TASK, 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
-            np.zeros((1, N_COUNTS), dtype=np.int64), spectrum, np.zeros(1, dtype=np.int64), *features)
+    return (packed, rows, row0, ROWS_PER_TASK, width, height, spp, seed, depth, threshold, image, counts, spectrum,
+            cancel, *features)
+
+
+def _one_pixel(packed: PackedScene, spectral_image=False):
+    """The positional arguments of the 1x1 :func:`rows_call` that compiles the integrator for *packed*."""
+    spectrum = np.zeros((1, 1, packed.rgb_basis.shape[0])) if spectral_image else None
+    return (packed, np.zeros(1, dtype=np.int64), 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
+            np.zeros((1, N_COUNTS), dtype=np.int64), spectrum)
 
 
 def is_compiled(packed: PackedScene, spectral_image=False, features=None) -> bool:
@@ -134,7 +142,8 @@ def is_compiled(packed: PackedScene, spectral_image=False, features=None) -> boo
     import numba
 
     try:
-        sig = tuple(numba.typeof(a) for a in _warm_up_arguments(packed, spectral_image, features))
+        arguments = _kernel_arguments(*_one_pixel(packed, spectral_image), 0, np.zeros(1, dtype=np.int64), features)
+        sig = tuple(numba.typeof(a) for a in arguments)
         if any(tuple(key) == sig for key in render_rows.overloads):
             return True
         index = render_rows._cache._cache_file._load_index()
@@ -162,9 +171,7 @@ def warm_up(packed: PackedScene, notice=None, spectral_image=False, features=Non
     (:func:`tracer.kernels.integrator.scene_features`; ``tracer warmup --all``)."""
     if notice is not None and not is_compiled(packed, spectral_image, features):
         notice(COMPILE_NOTICE.format(features=", ".join(feature_names(packed)) or "none"))
-    spectrum = np.zeros((1, 1, packed.rgb_basis.shape[0])) if spectral_image else None
-    rows_call(packed, np.zeros(1, dtype=np.int64), 1, 1, 1, 0, 1, 0.0, np.zeros((1, 1, 3)),
-              np.zeros((1, N_COUNTS), dtype=np.int64), spectrum, features=features)
+    rows_call(*_one_pixel(packed, spectral_image), features=features)
 
 
 def render_in_parts(packed: PackedScene, s, row0=0, row1=None, spectral_image=False, stop=None,

@@ -97,19 +97,11 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T, xfilm):
             T[c] = ft[b, c]
         return
     d_nm = film_thickness(f, scene.film_maps, n_out)
-    if xfilm is None:  # lossless Airy films at the band centres only (pruned when compiled)
-        if ws.film_coef_cos[b] != cos_i:
-            free_film_setup_bands_nb(scene.wavelengths, scene.film_n[b], cos_i, 1.0, ws.free_kq[b], ws.free_Fs[b],
-                                     ws.free_Fp[b])
-            ws.film_coef_cos[b] = cos_i
-        free_film_evaluate_bands_nb(ws.free_kq[b], ws.free_Fs[b], ws.free_Fp[b], d_nm, POL_UNPOLARIZED, R, T)
-        _keep_uniform(ws, f, b, cos_i, R, T)
-        return
-    if f.model == FILM_MODEL_TWO_BEAM:
+    # Every test of xfilm comes first in its condition, so that with xfilm None (lossless Airy
+    # films at the band centres only) numba prunes the other paths when it compiles.
+    if xfilm is not None and f.model == FILM_MODEL_TWO_BEAM:
         _two_beam_optics(scene, ws, b, d_nm, cos_i, R, T)
         return
-    band = scene.band_mode == 1
-    lossless = f.lossless
     kq = ws.film_kq
     fkq = ws.free_kq
     ffs = ws.free_Fs
@@ -117,7 +109,7 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T, xfilm):
     coef = ws.film_coef
     if ws.film_coef_cos[b] != cos_i:
         wl = scene.wavelengths
-        if lossless:
+        if xfilm is None or f.lossless:
             free_film_setup_bands_nb(wl, scene.film_n[b], cos_i, 1.0, fkq[b], ffs[b], ffp[b])
         else:
             fn = scene.film_n
@@ -126,7 +118,7 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T, xfilm):
                 setup = film_setup_nb(wl[c], cos_i, 1.0, complex(fn[b, c], fk[b, c]), 1.0 + 0j)
                 for k in range(N_FILM_COEFFICIENTS):
                     coef[b, c, k] = setup[k]
-        if band:
+        if xfilm is not None and scene.band_mode == 1:
             q0 = max(cos_i, COS_MIN)
             edges = scene.band_edges
             ne = scene.film_n_edges
@@ -134,15 +126,15 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T, xfilm):
             for e in range(nc + 1):
                 kq[b, e] = 2.0 * math.pi / edges[e] * normal_wavevector_nb(complex(ne[b, e], ke[b, e]), 1.0, q0).real
         ws.film_coef_cos[b] = cos_i
-    if lossless and not band:
+    if xfilm is None or (f.lossless and scene.band_mode != 1):
         free_film_evaluate_bands_nb(fkq[b], ffs[b], ffp[b], d_nm, POL_UNPOLARIZED, R, T)
-    elif lossless:
+    elif f.lossless:
         for c in range(nc):
             r, t = free_film_band_average_nb((fkq[b, c], ffs[b, c], ffp[b, c]), kq[b, c], kq[b, c + 1], d_nm,
                                           POL_UNPOLARIZED)
             R[c] = r
             T[c] = t
-    elif band:
+    elif scene.band_mode == 1:
         for c in range(nc):
             r, t = film_band_average_nb(coef[b, c], kq[b, c], kq[b, c + 1], d_nm, POL_UNPOLARIZED)
             R[c] = r
@@ -195,12 +187,12 @@ def film_scatter(scene, ws, b, hit, xfilm):
     wr = ws.wr
     wt = ws.wt
     film_optics(scene, ws, b, n, cos_i, wr, wt, xfilm)
-    lossless = xfilm is None or scene.films[b].lossless
+    absorbing = xfilm is not None and not scene.films[b].lossless
     cut_r = ws.cut_r
     cut_t = ws.cut_t
     for c in range(wr.shape[0]):
         inner = 1.0
-        if xfilm is not None and not lossless:
+        if absorbing:
             rest = 1.0 - wr[c]
             inner = min(1.0, wt[c] / rest) if rest > 0.0 else 1.0
         if entering:
