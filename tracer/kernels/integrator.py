@@ -43,7 +43,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 from bubbleoptics.jit import JIT, JIT_INLINE, JIT_NO_NRT
 
 from bubbleoptics.kernels import N_FILM_COEFFICIENTS
@@ -619,8 +619,8 @@ def scene_features(scene) -> tuple:
     return tuple(True if on else None for on in flags)
 
 
-@njit(parallel=True, nogil=True, **JIT)
-def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, depth, threshold, image, counts,
+@njit(nogil=True, **JIT)
+def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, height, spp, seed, depth, threshold, image, counts,
                 spectrum, cancel, mesh, area, film, phong, xfilm):
     """Render the rows ``rows`` (int64, distinct, any order, each from *row0* to
     ``row0 + image.shape[0] - 1``) of the (height, width) image into ``image`` (rows, width, 3:
@@ -639,19 +639,23 @@ def render_rows(scene, rows, row0, rows_per_task, width, height, spp, seed, dept
     *mesh*, *area*, *film*, *phong*, *xfilm*: the scene's feature flags (:func:`scene_features`);
     a flag that is None compiles the render without that feature's code.
 
-    ``cancel`` (1,) int64: every thread stops at its next ray once ``cancel[0]`` is non-zero
+    ``cancel`` (1,) int64: the call stops at its next ray once ``cancel[0]`` is non-zero
     (set by another Python thread: this kernel releases the GIL), leaving the image partial.
 
-    The rows are handed out in tasks of *rows_per_task* consecutive entries of *rows*, each
-    with one workspace (allocating one per row cost the threads a contended allocator).  Rows
-    are independent (each sample's jitter is a hash of seed, pixel and sample, and the films'
-    kept set-ups are pure functions of their key), so any split of the rows over calls, tasks
-    and threads gives the same image.
+    The rows are cut into tasks of *rows_per_task* consecutive entries of *rows*; this call
+    renders tasks ``task0, task0 + task_step, ...`` with one workspace.  The kernel itself is
+    serial: :func:`tracer.rendering.local.rows_call` runs one call per thread (``task0`` the
+    thread's number, ``task_step`` the number of threads), from Python threads, since the
+    kernel releases the GIL.  A ``parallel=True`` loop here cost the first render about 25 s of
+    numba's parfor type inference and lowering of the whole inlined integrator
+    (docs/performance.md).  Rows are independent (each sample's jitter is a hash of seed,
+    pixel and sample, and the films' kept set-ups are pure functions of their key), so any
+    split of the rows over calls, tasks and threads gives the same image.
     """
     n = rows.shape[0]
     n_tasks = (n + rows_per_task - 1) // rows_per_task
-    for task in prange(n_tasks):
-        ws = new_workspace(scene, depth, cancel)
+    ws = new_workspace(scene, depth, cancel)
+    for task in range(task0, n_tasks, task_step):
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
             render_row(scene, ws, rows[k], row0, width, height, spp, seed, depth, threshold, image, counts, spectrum,
                        mesh, area, film, phong, xfilm)

@@ -15,7 +15,7 @@ from ..kernels.integrator import N_COUNTS, render_rows, scene_features
 from ..kernels.records import PackedScene
 
 __all__ = ["render_in_parts", "render_here", "render_tile", "warm_up", "is_compiled", "feature_names", "COMPILE_NOTICE", "RenderCancelled", "PARALLEL_LOCK",
-           "spread_rows", "ROWS_PER_TASK", "PROGRESS_AFTER", "CALL_SECONDS"]
+           "spread_rows", "render_threads", "ROWS_PER_TASK", "PROGRESS_AFTER", "CALL_SECONDS"]
 
 
 class RenderCancelled(Exception):
@@ -31,9 +31,9 @@ def _cancelled(cancel) -> bool:
     return bool(is_set() if is_set is not None else cancel())
 
 
-#: Rows per task of the parallel loop (one workspace each): small enough to balance an image
-#: whose objects sit in one part of it (the rows are spread over the tasks, :func:`spread_rows`),
-#: large enough that a task's workspace costs nothing.
+#: Rows per task (one kernel call each, handed to the render threads one at a time): small
+#: enough to balance an image whose objects sit in one part of it (the rows are spread over the
+#: tasks, :func:`spread_rows`), large enough that a call's set-up costs nothing.
 ROWS_PER_TASK = 8
 #: A render predicted to take longer than this (s) shows a progress bar and is split into
 #: calls of about :data:`CALL_SECONDS` each (which also lets Ctrl-C stop it between calls).
@@ -49,9 +49,9 @@ PARALLEL_LOCK = threading.RLock()
 
 def spread_rows(rows):
     """*rows* reordered so that every stretch of the list samples the whole set: sorted by the
-    bit-reversed position of each row (van der Corput order).  numba hands the tasks of a
-    parallel loop to its threads in contiguous stretches, so in the plain order a thread whose
-    stretch holds the bubbles would work while the other waits."""
+    bit-reversed position of each row (van der Corput order).  The threads take tasks in list
+    order, so every task, and the last ones that finish a call, sample the whole image rather than
+    one band of it (where a bubble may be all or none of the work)."""
     n = rows.size
     bits = max(1, int(n - 1).bit_length())
     pos = np.arange(n, dtype=np.int64)
@@ -61,48 +61,75 @@ def spread_rows(rows):
     return rows[np.argsort(rev, kind="stable")]
 
 
+def render_threads() -> int:
+    """How many threads a render uses: numba's thread count (``NUMBA_NUM_THREADS``, or
+    ``numba.set_num_threads`` in this thread), the machine's cores by default."""
+    import numba
+
+    return max(1, int(numba.get_num_threads()))
+
+
 def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, threshold, image, counts,
                spectrum=None, row0=0, stop=None, features=None):
     """Render the rows *rows* into ``image[rows - row0]`` and ``counts[rows - row0]`` (and
     ``spectrum[rows - row0]``, (rows, width, C), unless it is None: the kernel's per-band code is then pruned when numba compiles it).
 
-    The kernel runs in a worker thread (it releases the GIL) while this thread waits, so that
-    Ctrl-C reaches Python at once: it then sets the kernel's cancel flag, waits for the
-    threads to stop at their next ray, and raises ``KeyboardInterrupt`` (the partial image is
-    the caller's to discard).  *stop* (see :func:`_cancelled`) is polled the same way: when
-    it asks, the kernel is stopped likewise and :class:`RenderCancelled` raised.  *features*: the
-    kernel's feature flags (default: the scene's, :func:`tracer.kernels.integrator.scene_features`).
+    The rows, in :func:`spread_rows` order, are cut into tasks of :data:`ROWS_PER_TASK`; each of
+    :func:`render_threads` worker threads takes the next task and runs the serial kernel on it
+    (it releases the GIL) until none is left, while this thread waits, so that Ctrl-C reaches Python at once: it then
+    sets the kernel's cancel flag, waits for the threads to stop at their next ray, and raises
+    ``KeyboardInterrupt`` (the partial image is the caller's to discard).  *stop* (see
+    :func:`_cancelled`) is polled the same way: when it asks, the kernel is stopped likewise and
+    :class:`RenderCancelled` raised.  *features*: the kernel's feature flags (default: the
+    scene's, :func:`tracer.kernels.integrator.scene_features`).
     """
-    import numba
-
     if _cancelled(stop):  # between calls: stop before starting the next one
         raise RenderCancelled("render cancelled")
     cancel = np.zeros(1, dtype=np.int64)
-    arguments = _kernel_arguments(packed, spread_rows(rows), width, height, spp, seed, depth, threshold, image, counts,
-                                  spectrum, row0, cancel, features)
+    n_tasks = -(-rows.size // ROWS_PER_TASK)
+    n_threads = max(1, min(render_threads(), n_tasks))
+    arguments = _kernel_arguments(packed, spread_rows(rows), width, height, spp, seed, depth, threshold, image,
+                                  counts, spectrum, row0, cancel, features)
+    tasks = iter(range(n_tasks))  # handed out one at a time (next() on it is atomic under the GIL)
     failure = []
+    left = [n_threads]
     done = threading.Event()  # not Thread.is_alive: an interrupted join can leave it False too early
+    count_lock = threading.Lock()
 
-    def work():
+    def work(_):
         try:
-            with numba.parallel_chunksize(1):
-                render_rows(*arguments)
+            for task in tasks:
+                if cancel[0]:
+                    break
+                render_rows(*arguments[:4], task, n_tasks, *arguments[6:])
         except BaseException as exc:  # re-raised in the calling thread
             failure.append(exc)
+            cancel[0] = 1  # the other threads stop too
         finally:
-            done.set()
+            with count_lock:
+                left[0] -= 1
+                if left[0] == 0:
+                    done.set()
 
-    with PARALLEL_LOCK:  # one parallel kernel at a time (numba's thread pool is shared)
-        worker = threading.Thread(target=work, name="tracer-render", daemon=True)
+    with PARALLEL_LOCK:  # one render at a time (and no other parallel numba kernel meanwhile)
+        workers = [threading.Thread(target=work, args=(i,), name=f"tracer-render-{i}", daemon=True)
+                   for i in range(n_threads)]
+        started = 0
         try:
-            worker.start()
+            for worker in workers:
+                worker.start()
+                started += 1
             while not done.wait(0.005 if stop is not None else 0.05):
                 if _cancelled(stop):
                     raise RenderCancelled("render cancelled")
         except BaseException:
             cancel[0] = 1
-            # the kernel must have stopped before the next one starts: wait, whatever comes
-            while worker.ident is not None and not done.is_set():
+            with count_lock:  # threads never started will not count themselves down
+                left[0] -= n_threads - started
+                if left[0] == 0:
+                    done.set()
+            # the kernels must have stopped before the next one starts: wait, whatever comes
+            while not done.is_set():
                 try:
                     done.wait(0.05)
                 except BaseException:
@@ -119,12 +146,12 @@ def _interleaved(height, n_parts):
 
 
 def _kernel_arguments(packed, rows, width, height, spp, seed, depth, threshold, image, counts, spectrum, row0,
-                      cancel, features):
-    """The arguments of :func:`tracer.kernels.integrator.render_rows` for a :func:`rows_call` with
-    these (*features* None: the scene's, :func:`tracer.kernels.integrator.scene_features`)."""
+                      cancel, features, task0=0, task_step=1):
+    """The arguments of :func:`tracer.kernels.integrator.render_rows` for one thread of a
+    :func:`rows_call` with these (*features* None: the scene's, :func:`tracer.kernels.integrator.scene_features`)."""
     features = scene_features(packed) if features is None else features
-    return (packed, rows, row0, ROWS_PER_TASK, width, height, spp, seed, depth, threshold, image, counts, spectrum,
-            cancel, *features)
+    return (packed, rows, row0, ROWS_PER_TASK, task0, task_step, width, height, spp, seed, depth, threshold, image,
+            counts, spectrum, cancel, *features)
 
 
 def _one_pixel(packed: PackedScene, spectral_image=False):
