@@ -1,9 +1,14 @@
 """The film-flow simulation's validation figures, the black-film time and a few rendered frames.
 
-Run:  python benchmarks/film_flow_validation.py [--quick] [--out PATH]
+Run:  python benchmarks/film_flow_validation.py [--quick] [--only {checks,dt,evaporation}] [--out PATH]
 Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) and
 ``data/derived/film_flow_validation.npz`` (the apex curve, the thickness against time of the
-black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film_flow.py``).
+black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film_flow.py``)
+(``--only checks``), ``data/derived/film_flow_dt.csv`` (the time-step study, ``--only dt``) and
+``data/derived/film_flow_evaporation.csv`` (the evaporation study, ``--only evaporation``);
+without ``--only``, all three.  These are verification (the equations solved right, and how the
+answer depends on the numerical and assumed parameters), not validation: nothing here is
+compared with a measured film.
 
 The checks are those of ``tests/bubbleoptics/test_film_flow.py``, computed by the same helpers (both import
 them from :mod:`study.film_flow`: ``plug_equilibrium_error``,
@@ -30,8 +35,23 @@ them from :mod:`study.film_flow`: ``plug_equilibrium_error``,
   07 view), rendered at :data:`FRAME_SIZE` pixels, depth 4, the other render settings the
   defaults; the seconds a frame took (median, min, max) are in the CSV.
 
-``--quick`` uses fewer and coarser grids, a coarse black-film run and tiny frames (smoke test;
-its CSV says so).
+* ``dt`` (``film_flow_dt.csv``): the black-film run again (cited defaults, seed 0) at the steps
+  of :data:`DT_STUDY`, halving each time, on two grids, sampled after every step
+  (:func:`study.film_flow.black_film_run`): the apex's and the first cell's black-film times and
+  the apex thickness at :data:`PROBE_S` s; for each three consecutive steps the observed order
+  :math:`p = \log_2(|f(\Delta t)-f(\Delta t/2)| / |f(\Delta t/2)-f(\Delta t/4)|)`
+  (:func:`study.film_flow.observed_orders`) and Richardson's estimate from the two finer steps
+  with that order (:func:`study.film_flow.richardson`; empty where the order is not positive).
+  (The mean thickness is no test of the step: the scheme keeps the volume exactly, so it is
+  h0 - E t at every step.)
+* ``evaporation`` (``film_flow_evaporation.csv``): the apex's black-film time at the evaporation
+  rates :data:`EVAPORATION_MULTIPLES` x the cited E, on the grids and steps of
+  :data:`EVAPORATION_RUNS`, against :math:`h_{eq}(0)/E` and :math:`h_0/E`, with the share of the
+  apex's thinning that evaporation did (:attr:`study.film_flow.BlackFilm.evaporated_share`);
+  E = 0 (the rest drains only) is run for :data:`NO_EVAPORATION_S` s.
+
+``--quick`` uses fewer and coarser grids, a coarse black-film run and tiny frames, and for the
+studies an 8 x 16 grid (smoke test; each CSV says so).
 """
 
 import argparse
@@ -56,6 +76,17 @@ BLACK_NM = 30.0  # "black film": thinner than this (as notebook 07)
 BLACK_GRID, BLACK_DT = (128, 256), 0.01
 FRAME_SIZE = 200
 FRAME_OFFSETS = (-16.0, -8.0, 0.0, 4.0)  # s, around the apex's black-film time
+DT_OUT = ROOT / "data" / "derived" / "film_flow_dt.csv"
+EVAPORATION_OUT = ROOT / "data" / "derived" / "film_flow_evaporation.csv"
+#: the time-step study: grid -> steps (s), halving each time from 40 ms
+DT_STUDY = {(64, 128): tuple(0.04 / 2**k for k in range(8)), BLACK_GRID: tuple(0.04 / 2**k for k in range(6))}
+DT_STUDY_QUICK = {(8, 16): tuple(0.1 / 2**k for k in range(4))}
+PROBE_S = 30.0  # s: the apex thickness at this time is the study's second output
+#: the evaporation study: multiples of the cited E, and (grid, step) of its runs
+EVAPORATION_MULTIPLES = (0.25, 0.5, 1.0, 2.0, 4.0)
+EVAPORATION_RUNS = (((32, 64), 0.000625), (BLACK_GRID, BLACK_DT))
+EVAPORATION_RUNS_QUICK = (((8, 16), 0.05),)
+NO_EVAPORATION_S = 120.0  # s: how long the run without evaporation goes on
 
 
 def _orders(errors):
@@ -180,11 +211,112 @@ def render_frames(series, t_black, size):
     return np.array(times), np.stack(images).astype(np.uint8), seconds
 
 
+def dt_study(study):
+    """Rows of ``film_flow_dt.csv``: :func:`study.film_flow.black_film_run` for each grid and
+    step of *study*, with the observed orders and Richardson's estimates."""
+    p = FilmParameters()
+    rows = []
+    for grid, steps in study.items():
+        runs = []
+        for dt in steps:
+            r = ff.black_film_run(p, grid, dt, BLACK_NM, PROBE_S)
+            runs.append(r)
+            print(f"dt study {grid[0]}x{grid[1]} dt {dt * 1e3:9.4f} ms: apex black {r.t_apex:.6f} s, first "
+                  f"{r.t_first:.6f} s, apex at {PROBE_S:g} s {r.apex_probe_nm:.4f} nm ({r.steps} steps, "
+                  f"{r.wall:.1f} s)", flush=True)
+        columns = {"t_apex_s": [r.t_apex for r in runs], "t_first_s": [r.t_first for r in runs],
+                   "apex_probe_nm": [r.apex_probe_nm for r in runs]}
+        orders = {k: [math.nan, math.nan] + ff.observed_orders(v) for k, v in columns.items()}
+        for i, r in enumerate(runs):
+            row = dict(grid=f"{grid[0]}x{grid[1]}", dt_s=r.dt, t_apex_s=r.t_apex, t_first_s=r.t_first,
+                       probe_s=r.probe_s, apex_probe_nm=r.apex_probe_nm)
+            for k, v in columns.items():
+                name = k[:-3] if k.endswith("_nm") else k[:-2]
+                row[f"order_{name}"] = orders[k][i]
+                row[f"richardson_{k}"] = ff.richardson(v[i - 1], v[i], orders[k][i]) if i >= 2 else math.nan
+            row.update(steps=r.steps, wall_s=r.wall, cpu_s=r.cpu)
+            rows.append(row)
+    return rows
+
+
+def evaporation_study(runs, multiples):
+    """Rows of ``film_flow_evaporation.csv``: the apex's black-film time at each multiple of the
+    cited evaporation rate (and at E = 0) on each (grid, step) of *runs*."""
+    base = FilmParameters()
+    rows = []
+    for grid, dt in runs:
+        for m in (0.0,) + tuple(multiples):
+            p = base.replace(evaporation=base.evaporation * m)
+            r = ff.black_film_run(p, grid, dt, BLACK_NM, probe_s=0.0, t_max=NO_EVAPORATION_S if m == 0 else None)
+            heq = ff.equilibrium_apex_nm(p)
+            t_eq = heq * 1e-9 / p.evaporation if m > 0 else math.inf
+            t_uniform = p.h0 / p.evaporation if m > 0 else math.inf
+            rows.append(dict(grid=f"{grid[0]}x{grid[1]}", dt_s=dt, evaporation_multiple=m,
+                             evaporation_m_per_s=p.evaporation, t_apex_s=r.t_apex, t_first_s=r.t_first,
+                             t_eq_apex_s=t_eq, t_apex_over_t_eq_apex=r.t_apex / t_eq if m > 0 else math.nan,
+                             t_uniform_s=t_uniform, evaporated_share=r.evaporated_share if m > 0 else 0.0,
+                             h_eq_apex_nm=heq, apex_start_nm=r.apex_start_nm, apex_end_nm=r.apex_end_nm,
+                             t_end_s=r.t_end, steps=r.steps, wall_s=r.wall))
+            print(f"evaporation {grid[0]}x{grid[1]} dt {dt * 1e3:g} ms E x {m:g}: apex black {r.t_apex:.4f} s, "
+                  f"h_eq(0)/E {t_eq:.4f} s, ratio {rows[-1]['t_apex_over_t_eq_apex']:.4f}, evaporated share "
+                  f"{rows[-1]['evaporated_share']:.4f}, apex at the end {r.apex_end_nm:.1f} nm "
+                  f"({r.steps} steps, {r.wall:.1f} s)", flush=True)
+    return rows
+
+
+def _study_comment(script_note, quick, load_start, extra):
+    load = os.getloadavg()[0]
+    return [
+        provenance("benchmarks/film_flow_validation.py",
+                   f"load average {load_start:.2f} at the start, {load:.2f} at the end (other processes share the cores)",
+                   f"numba threads {numba_threads()}",
+                   ("QUICK MODE (smoke test), " if quick else "") + script_note,
+                   "regenerate with: python benchmarks/film_flow_validation.py --only "
+                   + extra + (" --quick" if quick else "")),
+    ]
+
+
+def numba_threads():
+    import numba
+
+    return numba.get_num_threads()
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="coarse grids and tiny frames (smoke test)")
-    parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--only", action="append", choices=("checks", "dt", "evaporation"),
+                        help="run only this part (repeatable; default: all three)")
+    parser.add_argument("--out", type=Path, default=OUT, help="the checks' CSV (the .npz beside it)")
+    parser.add_argument("--dt-out", type=Path, default=DT_OUT)
+    parser.add_argument("--evaporation-out", type=Path, default=EVAPORATION_OUT)
     args = parser.parse_args(argv)
+    parts = set(args.only or ("checks", "dt", "evaporation"))
+    if "checks" in parts:
+        checks(args)
+    if "dt" in parts:
+        load_start = os.getloadavg()[0]
+        rows = dt_study(DT_STUDY_QUICK if args.quick else DT_STUDY)
+        comment = _study_comment(
+            f"time-step study of the black-film run (plug flow, cited defaults, seed 0, threshold {BLACK_NM:g} nm, "
+            "sampled every step)", args.quick, load_start, "dt") + [
+            "order_X on the row of step dt: log2(|X(4 dt) - X(2 dt)| / |X(2 dt) - X(dt)|); richardson_X: "
+            "X(dt) + (X(dt) - X(2 dt)) / (2^order - 1), nan where the order is not positive"]
+        write_csv(args.dt_out, rows, comment, float_format="{:.9g}")
+        print(f"wrote {args.dt_out}", file=sys.stderr)
+    if "evaporation" in parts:
+        load_start = os.getloadavg()[0]
+        rows = evaporation_study(EVAPORATION_RUNS_QUICK if args.quick else EVAPORATION_RUNS, EVAPORATION_MULTIPLES)
+        comment = _study_comment(
+            f"evaporation study of the black-film run (plug flow, cited defaults but E, seed 0, threshold "
+            f"{BLACK_NM:g} nm); E = 0 runs {NO_EVAPORATION_S:g} s", args.quick, load_start, "evaporation") + [
+            "t_eq_apex_s = h_eq(0)/E (the equilibrium's apex evaporating), t_uniform_s = h0/E; evaporated_share = "
+            "E t_apex / (apex_start - threshold), the rest of the apex's thinning is drainage"]
+        write_csv(args.evaporation_out, rows, comment, float_format="{:.7g}")
+        print(f"wrote {args.evaporation_out}", file=sys.stderr)
+
+
+def checks(args):
     q = args.quick
     load_start = os.getloadavg()[0]
     rows = []

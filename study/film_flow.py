@@ -15,7 +15,11 @@
   ``benchmarks/film_flow_validation.py``: :func:`rigid_characteristics_profile` (rigid drainage
   from a uniform start, by the characteristics of its PDE, integrated with scipy),
   :func:`plug_equilibrium_error` (plug flow against its closed-form equilibrium) and
-  :func:`coarsen_cells` (a field on the grid half as fine, for self-convergence).
+  :func:`coarsen_cells` (a field on the grid half as fine, for self-convergence);
+* the verification studies of ``benchmarks/film_flow_validation.py`` (the time step and the
+  evaporation rate) and their tests: :func:`black_film_run` (an evaporating plug-flow film
+  sampled every step, a :class:`BlackFilm`), :func:`equilibrium_apex_nm`,
+  :func:`observed_orders` and :func:`richardson`.
 
 Units: thickness in nm, times in s, angles in radians.  NumPy only (plus
 :mod:`bubbleoptics` inside :func:`film_luminance` and :func:`opd_table_luminance`).
@@ -40,6 +44,11 @@ __all__ = [
     "rigid_characteristics_profile",
     "coarsen_cells",
     "plug_transient_differences",
+    "BlackFilm",
+    "equilibrium_apex_nm",
+    "black_film_run",
+    "observed_orders",
+    "richardson",
 ]
 
 #: Film parameters without perturbation or evaporation: the models' analytic cases.
@@ -239,3 +248,121 @@ def plug_transient_differences(rows_list, steps=20, dt=0.0025, seed=3):
             s = m.step(s, dt)
         fields[n] = (g, s.h)
     return {n: float(np.abs(fields[n][1] - coarsen_cells(*fields[2 * n])).max() / p.h0) for n in rows_list[:-1]}
+
+
+# ---------------------------------------------------------------- verification: time step, evaporation
+@dataclass(frozen=True)
+class BlackFilm:
+    """One evaporating plug-flow run, sampled after every step (so a crossing time is
+    interpolated between two steps, not between saved frames): the times (s) at which the apex
+    (the top cell row, mean over φ) and the thinnest cell anywhere first go below
+    ``threshold_nm`` (``nan`` if not within the run), the apex thickness (nm) at ``probe_s``
+    (``nan`` if the run stopped before), at the start and at the end of the run, ``t_end`` (s),
+    the ``steps`` taken and their ``wall`` and ``cpu`` seconds."""
+
+    dt: float
+    evaporation: float
+    grid: tuple
+    threshold_nm: float
+    t_apex: float
+    t_first: float
+    probe_s: float
+    apex_probe_nm: float
+    apex_start_nm: float
+    apex_end_nm: float
+    t_end: float
+    steps: int
+    wall: float
+    cpu: float
+
+    @property
+    def evaporated_share(self):
+        """The part of the apex's thinning, from its start to ``threshold_nm``, that evaporation
+        did: :math:`E\\,t_{apex}/(h_{apex}(0) - h_{black})`.  At the apex
+        :math:`\\partial_t h = -\\nabla_s\\cdot(h\\mathbf u) - E` and nothing clips the thickness before
+        it is black, so the rest, 1 minus this, is what the flow carried away (drainage)."""
+        return self.evaporation * self.t_apex * 1e9 / (self.apex_start_nm - self.threshold_nm)
+
+
+def equilibrium_apex_nm(params):
+    """:math:`h_{eq}(0) = h_0 (a/\\sinh a) e^{-a}` in nm: the apex of the plug-flow equilibrium
+    (``docs/film-flow.md``) for *params*; its evaporation time at rate E is this / E."""
+    import math
+
+    a = params.equilibrium_exponent
+    return params.h0 * 1e9 * a / math.sinh(a) * math.exp(-a)
+
+
+def black_film_run(params, grid, dt, threshold_nm=30.0, probe_s=30.0, t_max=None, seed=0):
+    """Plug flow (:class:`~bubbleoptics.filmflow.PlugFlow`) with *params* on *grid* ((n_theta,
+    n_phi)) from ``initial_state(seed)`` in steps of *dt* s, until the apex and the thinnest
+    cell are both below *threshold_nm* and *probe_s* is passed, or until *t_max* s (default
+    1.5 h0/E, or 120 s without evaporation).  Returns a :class:`BlackFilm`.
+
+    >>> from bubbleoptics.filmflow import FilmParameters
+    >>> r = black_film_run(FilmParameters(evaporation=3e-7), (8, 16), 0.05, probe_s=1.0)
+    >>> 5.0 < r.t_apex < 7.0, r.t_first <= r.t_apex, round(r.apex_start_nm)
+    (True, True, 2017)
+    """
+    import math
+    import time
+
+    from bubbleoptics.filmflow import FilmGrid, PlugFlow
+
+    if t_max is None:
+        t_max = 1.5 * params.h0 / params.evaporation if params.evaporation > 0 else 120.0
+    n_max = int(math.ceil(t_max / dt - 1e-9))
+    model = PlugFlow(params, FilmGrid(*grid, params.radius))
+    s = model.initial_state(seed)
+    times, apex, thinnest = [0.0], [s.h[0].mean() * 1e9], [s.h.min() * 1e9]
+    t0, c0 = time.perf_counter(), time.process_time()
+    for i in range(1, n_max + 1):
+        s = model.step(s, dt)
+        times.append(i * dt)
+        apex.append(s.h[0].mean() * 1e9)
+        thinnest.append(s.h.min() * 1e9)
+        if apex[-1] < threshold_nm and thinnest[-1] < threshold_nm and times[-1] >= probe_s:
+            break
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    t_end = times[-1]
+    return BlackFilm(dt=float(dt), evaporation=float(params.evaporation), grid=tuple(grid),
+                     threshold_nm=float(threshold_nm),
+                     t_apex=first_crossing(times, apex, threshold_nm),
+                     t_first=first_crossing(times, thinnest, threshold_nm), probe_s=float(probe_s),
+                     apex_probe_nm=float(np.interp(probe_s, times, apex)) if probe_s <= t_end else float("nan"),
+                     apex_start_nm=float(apex[0]), apex_end_nm=float(apex[-1]), t_end=float(t_end),
+                     steps=len(times) - 1, wall=wall, cpu=cpu)
+
+
+def observed_orders(values):
+    """The observed orders of convergence of a quantity computed at steps halving each time
+    (*values* from the coarsest step to the finest): for each three consecutive values,
+    :math:`p = \\log_2(|f(\\Delta t) - f(\\Delta t/2)| / |f(\\Delta t/2) - f(\\Delta t/4)|)`, one
+    fewer than the differences (``nan`` where a difference is 0).  Positive when the
+    differences shrink; 1 for a first-order method in its asymptotic range.
+
+    >>> [round(p, 6) for p in observed_orders([1 + 0.1, 1 + 0.05, 1 + 0.025, 1 + 0.0125])]
+    [1.0, 1.0]
+    """
+    import math
+
+    f = [float(v) for v in values]
+    if len(f) < 3:
+        raise ValueError(f"need at least three values at halving steps (got {len(f)})")
+    d = [abs(a - b) for a, b in zip(f, f[1:])]
+    return [math.log2(a / b) if a > 0 and b > 0 else float("nan") for a, b in zip(d, d[1:])]
+
+
+def richardson(coarse, fine, order):
+    """Richardson's estimate of the step-size limit from the values at Δt (*coarse*) and Δt/2
+    (*fine*) of a method of order *order* > 0: :math:`f + (f - f_{coarse})/(2^p - 1)`; ``nan``
+    when the order is not positive (the values are then not in the asymptotic range).
+
+    >>> richardson(1.1, 1.05, 1.0)
+    1.0
+    """
+    import math
+
+    if not (order > 0 and math.isfinite(order)):
+        return float("nan")
+    return fine + (fine - coarse) / (2.0 ** order - 1.0)
