@@ -57,6 +57,7 @@ chromium:
 bench: export NUMBA_THREADING_LAYER ?= workqueue
 bench: $(STAMP)
 	$(PY) -m pip install --quiet -e '.[mitsuba]'
+	$(PY) benchmarks/machine.py
 	$(PY) benchmarks/optics_speed.py
 	$(PY) benchmarks/coursework_table.py
 	$(PY) benchmarks/coursework_rays.py

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_commented_csv", "read_columns", "rows_to_columns", "write_csv", "provenance", "wall_times",
+__all__ = ["read_commented_csv", "read_columns", "rows_to_columns", "write_csv", "provenance", "cpu_model", "wall_times",
            "image_benchmark_arguments"]
 
 
@@ -96,13 +96,47 @@ def read_columns(path):
     return rows_to_columns(rows)
 
 
+def cpu_model(cpuinfo="/proc/cpuinfo"):
+    """The CPU's model as the machine names it: the first ``model name`` of *cpuinfo* (Linux), with
+    its ``cpu family`` and ``model`` numbers, which identify a CPU whose name a virtual machine
+    shortens ("AMD EPYC"); where there is no such file, :func:`platform.processor`; ``""`` when
+    neither says.  Semicolons become commas (the header separates its parts with ``; ``).
+
+    Example
+    -------
+    >>> import tempfile
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
+    ...     _ = f.write(chr(10).join(["processor: 0", "cpu family: 25", "model: 17", "model name: AMD EPYC"]))
+    >>> cpu_model(f.name)
+    'AMD EPYC (family 25, model 17)'
+    >>> os.remove(f.name)
+    """
+    fields = {}
+    try:
+        with open(cpuinfo, encoding="utf-8", errors="replace") as lines:
+            for line in lines:
+                key, sep, value = line.partition(":")
+                if not sep:
+                    if fields:  # the end of the first processor's block
+                        break
+                    continue
+                fields.setdefault(key.strip(), " ".join(value.split()))
+    except OSError:
+        fields = {}
+    name = fields.get("model name", "")
+    if name and fields.get("cpu family") and fields.get("model"):
+        name = f"{name} (family {fields['cpu family']}, model {fields['model']})"
+    return (name or platform.processor() or "").replace(";", ",")
+
+
 def provenance(script, *details):
     """The first comment line of a result file: ``written by SCRIPT on DATE (MACHINE, N cores,
-    Python X.Y.Z)``, then each of *details* after ``; ``.
+    Python X.Y.Z); CPU MODEL``, then each of *details* after ``; ``.
 
     *script*: how to name the writer (``"benchmarks/optics_speed.py"``).  The machine is
-    :func:`platform.processor` or, where that is empty, :func:`platform.machine`.  The paper's
-    numbers read the date and the ``(machine, N cores`` part back from this line.
+    :func:`platform.processor` or, where that is empty, :func:`platform.machine`; the CPU model
+    :func:`cpu_model` (the ``; CPU`` part is left out where the machine does not say).  The paper's
+    numbers read the date, the ``(machine, N cores`` part and the CPU model back from this line.
 
     Example
     -------
@@ -112,7 +146,8 @@ def provenance(script, *details):
     machine = platform.processor() or platform.machine()
     head = (f"written by {script} on {datetime.date.today()} ({machine}, {os.cpu_count()} cores, "
             f"Python {platform.python_version()})")
-    return "; ".join([head, *details])
+    cpu = cpu_model()
+    return "; ".join([head, *([f"CPU {cpu}"] if cpu else []), *details])
 
 
 def image_benchmark_arguments(description, out, repeats, quick_repeats, argv=None, size=960, quick_size=240):

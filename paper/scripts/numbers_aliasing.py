@@ -6,7 +6,7 @@
 
 from __future__ import annotations
 
-from macros import NA, plain, read_commented_csv, significant, to_float
+from macros import NA, plain, read_commented_csv, significant, to_float, up_to
 
 #: where these macros stand in numbers.tex (make_numbers.py)
 ORDER = 5
@@ -32,13 +32,14 @@ def aliasing(dirs):
         out[f"AliasOnset{word}"] = significant(to_float(sel[0]["onset_measured_nm"]) / 1000, 2)
         out[f"AliasPredicted{word}"] = significant(to_float(sel[0]["onset_pred_400_nm"]) / 1000, 2)
         below = [to_float(r["dE00"]) for r in sel if to_float(r["thickness_nm"]) < ALIAS_THIN_NM]
-        out[f"AliasMaxTwoUm{word}"] = significant(max(below), 2) if below else NA
-        out[f"AliasMaxAll{word}"] = significant(max(to_float(r["dE00"]) for r in sel), 2)
+        # maxima quoted after "up to" / "within": rounded up
+        out[f"AliasMaxTwoUm{word}"] = up_to(max(below), 2) if below else NA
+        out[f"AliasMaxAll{word}"] = up_to(max(to_float(r["dE00"]) for r in sel), 2)
     any_band = False
     for n, word in BANDS.items():
         band = [r for r in rows if r["method"] == "bandlimited" and int(float(r["n_bands"])) == n]
         any_band = any_band or bool(band)
-        out[f"BandlimitedMax{word}"] = significant(max(to_float(r["dE00"]) for r in band), 2) if band else NA
+        out[f"BandlimitedMax{word}"] = up_to(max(to_float(r["dE00"]) for r in band), 2) if band else NA
     out["BandlimitedAvailable"] = "1" if any_band else "0"
     return out
 

@@ -11,7 +11,7 @@
 
 from __future__ import annotations
 
-from macros import date_of, machine_of, read_commented_csv, scientific, significant
+from macros import date_of, machine_of, read_commented_csv, scientific, significant, up_to
 
 #: (case, depth) of the throughput table, and its macro word
 CASES = {("empty", "10"): "Empty", ("coursework_1_bubble", "1"): "OneShallow", ("coursework_1_bubble", "10"): "OneDeep",
@@ -88,7 +88,7 @@ def energy(dirs):
     for case, word in FURNACE.items():
         out[f"Furnace{word}"] = scientific(max(float(r["max_abs_deviation"]) for r in furnace if r["case"] == case), 1)
     out["FurnaceMax"] = scientific(max(float(r["max_abs_deviation"]) for r in furnace), 1)
-    out["FurnaceExcessMax"] = scientific(max(float(r["max_excess"]) for r in furnace), 1)
+    out["FurnaceExcessMax"] = up_to(max(float(r["max_excess"]) for r in furnace), 1, form="scientific")  # "by at most"
     out["FurnaceSize"] = f"{int(furnace[0]['width'])}"
     out["FurnaceDepth"] = f"{int(furnace[0]['depth'])}"
     thresholds = sorted({float(r["threshold"]) for r in furnace})
@@ -102,7 +102,7 @@ def energy(dirs):
     pruning = {float(r["threshold"]): r for r in rows if r["case"] == "pruning_builtin"}
     p = pruning[thresholds[1]]
     out["PruneMeanDE"] = scientific(float(p["mean_de00"]), 1)
-    out["PruneMaxDE"] = significant(float(p["max_de00"]), 2)
+    out["PruneMaxDE"] = up_to(float(p["max_de00"]), 2)  # "at most"
     out["PruneRaysRatio"] = significant(int(pruning[0.0]["rays_total"]) / int(p["rays_total"]), 2)
     return out
 

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from macros import WORDS, date_of, group_digits, machine_of, plain, read_commented_csv, significant
+from macros import WORDS, at_least, date_of, group_digits, machine_of, plain, read_commented_csv, significant, up_to
 
 GOLDEN = (1 + 5**0.5) / 2
 LEVEL = 0.95
@@ -55,8 +55,8 @@ def spread(dirs):
     med = np.nanmedian(runs, axis=1)
     full = 100 * (np.nanmax(runs, axis=1) - np.nanmin(runs, axis=1)) / med
     out["OursSpreadMedian"] = significant(float(np.median(half_iqr)), 2)
-    out["OursSpreadMax"] = significant(float(np.max(half_iqr)), 2)
-    out["OursRangeMax"] = significant(float(np.max(full)), 2)
+    out["OursSpreadMax"] = up_to(float(np.max(half_iqr)), 2)  # "at most"
+    out["OursRangeMax"] = up_to(float(np.max(full)), 2)  # "up to"
     checks = identical_work_check(timing)
     ratios = [c["ratio"] for c in checks]
     out["IdenticalRatioMin"] = f"{min(ratios):.2f}"
@@ -113,9 +113,10 @@ def branch(dirs):
             out[f"CourseworkBranch{key}High{word}"] = f"{hi:.3f}"
         ends = np.array([ci.profile, ci.wald, ci.bootstrap])
         diffs.append(float(np.max(ends.max(axis=0) - ends.min(axis=0))))
-    out["CourseworkBranchMethodsDiff"] = f"{max(diffs):.3f}"
-    out["CourseworkBranchLowMin"] = f"{min(i.profile[0] for i in intervals.values()):.3f}"
-    out["CourseworkBranchHighMax"] = f"{max(i.profile[1] for i in intervals.values()):.3f}"
+    # "agree to within", "intervals within LowMin--HighMax": rounded outwards
+    out["CourseworkBranchMethodsDiff"] = up_to(max(diffs), 1)
+    out["CourseworkBranchLowMin"] = at_least(min(i.profile[0] for i in intervals.values()), 4)
+    out["CourseworkBranchHighMax"] = up_to(max(i.profile[1] for i in intervals.values()), 4)
     return out
 
 

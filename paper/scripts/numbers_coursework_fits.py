@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 
-from macros import NA, WORDS, group_digits, significant
+from macros import NA, WORDS, at_least, group_digits, significant, up_to
 
 #: where these macros stand in numbers.tex (make_numbers.py)
 ORDER = 2
@@ -51,11 +51,11 @@ def coursework(dirs):
     out["CourseworkBestIsAffine"] = "1" if best == {"affine exponential"} else "0"
     out["CourseworkBranchMin"] = significant(min(branch), 3)
     out["CourseworkBranchMax"] = significant(max(branch), 3)
-    out["CourseworkRmsAffineMax"] = significant(100 * max(rms_affine), 2)
-    out["CourseworkDeltaQuarticMin"] = significant(min(delta_quartic), 2)
-    out["CourseworkDeltaExpMin"] = significant(min(delta_exp), 2)
+    out["CourseworkRmsAffineMax"] = up_to(100 * max(rms_affine), 2)  # "residuals below"
+    out["CourseworkDeltaQuarticMin"] = at_least(min(delta_quartic), 2)  # "by at least"
+    out["CourseworkDeltaExpMin"] = at_least(min(delta_exp), 2)
     for key, errs in hold.items():
-        out[f"CourseworkHoldout{key}Max"] = significant(100 * max(errs), 2)
+        out[f"CourseworkHoldout{key}Max"] = up_to(100 * max(errs), 2)  # "misses by up to"
     return out
 
 

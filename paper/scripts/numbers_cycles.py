@@ -7,7 +7,7 @@ every number n/a.
 
 import re
 
-from macros import date_of, read_commented_csv, significant
+from macros import at_least, date_of, read_commented_csv, significant, up_to
 
 THICKNESS_WORDS = {10.0: "Ten", 200.0: "TwoHundred", 400.0: "FourHundred", 800.0: "EightHundred"}
 
@@ -34,11 +34,16 @@ TIMING = ("CyclesTimingThickness", "CyclesBestSpp", "CyclesBestSeconds", "Cycles
           "CyclesOursBestSpp", "CyclesOursBestError", "CyclesTimeRatio", "CyclesSecondsPerSample",
           "CyclesOursSecondsPerSample", "CyclesRounds", "CyclesBestOwnError", "CyclesOwnTimeRatio",
           "CyclesOwnRatioQualifier", "CyclesRatioQualifier")
+#: the largest over the films of the statistics the text quotes after "up to" / "at most" / "within",
+#: rounded up (macros.up_to): (macro, stem, column)
+MAXIMA = (("CyclesDeMax", "CyclesDe", "bubble_mean"), ("CyclesDePninetyfiveMax", "CyclesDe", "bubble_p95"),
+          ("CyclesOursDefaultsMax", "CyclesOursDefaults", "bubble_mean"))
 HEAD = ("CyclesDate", "CyclesVersion", "CyclesSize", "CyclesRefSpp", "CyclesRefBands", "CyclesSpp", "CyclesTriangles",
         "CyclesBounces", "CyclesDepth", "CyclesEdgePx", "CyclesLoad", "CyclesFilmIndex", "CyclesWaterBlue",
         "CyclesWaterRed")
 
-MACROS = list(HEAD) + list(ORIENT) + list(TIMING) + [f"CyclesThick{word}" for word in THICKNESS_WORDS.values()]
+MACROS = list(HEAD) + list(ORIENT) + list(TIMING) + [name for name, *_ in MAXIMA]
+MACROS += [f"CyclesThick{word}" for word in THICKNESS_WORDS.values()]
 MACROS += [f"{stem}{suffix}{word}" for stem, *_ in COMPARISONS for suffix, _ in STATS
            for word in THICKNESS_WORDS.values()]
 
@@ -73,6 +78,7 @@ def cycles(dirs):
     for name, setting in ORIENT.items():
         row = next(r for r in rows if r["section"] == "orientation" and r["setting"] == setting)
         out[name] = significant(_f(row, "all_mean"), 2)
+    maxima = {name: [] for name, *_ in MAXIMA}
     for stem, section, prefix, renderer in COMPARISONS:
         for row in rows:
             if row["section"] != section or not row["setting"].startswith(prefix):
@@ -85,6 +91,11 @@ def cycles(dirs):
             out[f"CyclesThick{word}"] = f"{float(row['thickness_nm']):g}"
             for suffix, column in STATS:
                 out[f"{stem}{suffix}{word}"] = significant(_f(row, column), 2)
+            for name, max_stem, column in MAXIMA:
+                if max_stem == stem:
+                    maxima[name].append(_f(row, column))
+    for name, values in maxima.items():
+        out[name] = up_to(max(values), 2)
     timing = [r for r in rows if r["section"] == "timing"]
     cyc = sorted((r for r in timing if r["renderer"] == "cycles"), key=lambda r: int(r["spp"]))
     ours = sorted((r for r in timing if r["renderer"] == "ours"), key=lambda r: int(r["spp"]))
@@ -107,8 +118,9 @@ def cycles(dirs):
         if not equal:
             continue
         last = max(equal, key=lambda r: _f(r, "seconds_cycles"))  # Cycles' slowest, most converged point
-        out[ratio_name] = significant(_f(last, "ratio"), 2)
-        out[word_name] = "at least" if "lower bound" in last["setting"] else "about"
+        lower = "lower bound" in last["setting"]
+        out[ratio_name] = at_least(_f(last, "ratio"), 2) if lower else significant(_f(last, "ratio"), 2)
+        out[word_name] = "at least" if lower else "about"
     out["CyclesSecondsPerSample"] = significant(_f(best, "seconds") / int(best["spp"]) * 1000.0, 2)
     out["CyclesOursSecondsPerSample"] = significant(_f(ours[-1], "seconds") / int(ours[-1]["spp"]) * 1000.0, 2)
     return out

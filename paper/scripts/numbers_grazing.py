@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from macros import read_commented_csv, sci_or_plain, scientific, significant, to_float
+from macros import read_commented_csv, sci_or_plain, scientific, significant, to_float, up_to
 
 #: where these macros stand in numbers.tex (make_numbers.py)
 ORDER = 4
@@ -34,7 +34,7 @@ def grazing(dirs):
     u_max = max(to_float(r["u"]) for r in rows)
     out = {"GrazingUMax": significant(u_max, 1)}
     out["GrazingFilms"] = str(len({r["film"] for r in rows}))
-    out["GrazingOursRelT"] = scientific(worst("bubbleoptics", "rel_err_T", positive_ref="T_ref"), 2)
+    out["GrazingOursRelT"] = up_to(worst("bubbleoptics", "rel_err_T", positive_ref="T_ref"), 2, form="scientific")  # "at most"
     out["GrazingOursAbsR"] = scientific(worst("bubbleoptics", "abs_err_R"), 2)
     for method, key in (("naive", "Naive"), ("tmm", "Tmm")):
         out[f"Grazing{key}RelTFour"] = scientific(worst(method, "rel_err_T", 4.0, "T_ref"), 1)

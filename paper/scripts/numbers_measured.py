@@ -7,27 +7,24 @@
 * ``measuredthinning``: ``data/measured/optifik_thinning.csv``: the fitted thinning-rate exponent
   β (its profile interval in the CSV is resolved only to a 0.05 grid starting at 1.05, so not quoted), and the log-RMS of the laws with β = 3 and 5/2 against the free fit.
 
-Bounds are rounded outward (``MeasAgreeMaxPct`` up, ``MeasThinMinPct``/``MeasThinMaxPct`` away
-from zero), so that "within X %" and "X–Y % thinner" stay true.
+Bounds are rounded outward (``MeasAgreeMaxPct`` and ``MeasRmsMax`` up, ``MeasThinMinPct``/``MeasThinMaxPct``
+away from zero; :func:`macros.up_to`, :func:`macros.at_least`), so that "within X %", "at most X" and
+"X–Y % thinner" stay true.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from macros import date_of, machine_of, read_commented_csv, significant
+from macros import at_least, date_of, machine_of, read_commented_csv, significant, up_to
 
 
 def _up(x, digits=1):
-    f = 10**digits
-    return f"{math.ceil(x * f - 1e-9) / f:.{digits}f}"
+    return up_to(float(x), decimals=digits)
 
 
 def _down(x, digits=1):
-    f = 10**digits
-    return f"{math.floor(x * f + 1e-9) / f:.{digits}f}"
+    return at_least(float(x), decimals=digits)
 
 
 #: The stated thicknesses split into the first order (below), the agreement range and thick films (from).

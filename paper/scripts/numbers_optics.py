@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import re
 
-from macros import NA, date_of, group_digits, load_average_of, machine_of, read_commented_csv, scientific, significant
+from macros import (NA, date_of, group_digits, load_average_of, machine_of, read_commented_csv, scientific, significant,
+                    up_to)
 
 #: where these macros stand in numbers.tex (make_numbers.py)
 ORDER = 1
@@ -57,7 +58,7 @@ def optics(dirs):
             n = 3 if key in ("Colour", "Tmm") else 2
             out[f"Speedup{key}"] = significant(float(r["ratio_to_bubbleoptics"]), n)
             out[f"SpeedupRange{key}"] = _range(float(r["ratio_min"]), float(r["ratio_max"]), n)
-            out[f"Dev{key}"] = scientific(float(r["max_abs_deviation_from_bubbleoptics"]), 2)
+            out[f"Dev{key}"] = up_to(float(r["max_abs_deviation_from_bubbleoptics"]), 2, form="scientific")  # a maximum: "by up to"
     m = re.search(r"colour-science (\d+(?:\.\d+)+)", impl["Colour"]["implementation"])
     out["ColourVersion"] = m.group(1) if m else NA
     m = re.search(r"(\d+) points", impl["Tmm"]["implementation"])

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from macros import plain, significant
+from macros import plain, significant, up_to
 
 #: where these macros stand in numbers.tex (make_numbers.py)
 ORDER = 6
@@ -34,8 +34,8 @@ def physics(dirs):
 
     _, _, _, gap, peak = fig_thin_film.two_beam_gap()
     out["TwoBeamFigNm"] = plain(fig_thin_film.TWO_BEAM_NM)
-    out["TwoBeamErrFig"] = significant(gap, 2)
-    out["TwoBeamRelFig"] = significant(100 * gap / peak, 2)
+    out["TwoBeamErrFig"] = up_to(gap, 2)  # "off by up to"
+    out["TwoBeamRelFig"] = up_to(100 * gap / peak, 2)
     for deg, word in ((0, "Normal"), (60, "Sixty"), (75, "SeventyFive")):
         theta = np.deg2rad(deg)
         R = bo.film_reflectance(wl, d, theta)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from macros import plain, read_commented_csv, significant, thick_film_range_um
+from macros import plain, read_commented_csv, significant, thick_film_range_um, up_to
 
 SCENE_WORDS = {"builtin": "Builtin", "bubbles": "Bubbles", "thick": "Thick"}
 STATS = {"bubble_mean_de00": "Mean", "bubble_median_de00": "Median", "bubble_p95_de00": "Pninetyfive",
@@ -23,7 +23,7 @@ def two_beam_renders(dirs):
     if checks:  # how far the statistics move with twice the bands or 9 samples per pixel
         for col, word in (("bubble_mean_de00", "Mean"), ("bubble_p95_de00", "Pninetyfive")):
             moved = max(abs(float(c[col]) - float(by[c["scene"]][col])) for c in checks)
-            out[f"TbRCheck{word}"] = significant(moved, 1)
+            out[f"TbRCheck{word}"] = up_to(moved, 2)  # "move by at most"
     for scene, word in SCENE_WORDS.items():
         r = by[scene]
         for col, stat in STATS.items():

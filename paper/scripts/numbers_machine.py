@@ -1,0 +1,40 @@
+"""The CPU model of the machine the benchmarks ran on, from the benchmarks' headers.
+
+* ``machine``: every ``data/derived/*.csv``; the header that :func:`study.provenance` writes names
+  the CPU model (``; CPU AMD EPYC (family 25, model 17);``, from ``/proc/cpuinfo``) since
+  ``benchmarks/machine.py`` was added; the newest such header gives ``\\CpuModel`` and its date
+  ``\\CpuModelDate`` (files written earlier name only the architecture and the cores, so their
+  headers count for nothing here).  No header with a model: both n/a, with a warning.
+
+A plug-in of :mod:`make_numbers` (its ``SECTIONS`` format).
+"""
+
+from macros import cpu_model_of, date_of
+
+
+def _header(path):
+    """The leading ``#`` comment lines of *path*, without the ``#``."""
+    notes = []
+    with open(path, encoding="utf-8") as lines:
+        for line in lines:
+            if not line.startswith("#"):
+                break
+            notes.append(line[1:].strip())
+    return notes
+
+
+def machine(dirs):
+    named = []
+    for path in sorted(dirs["derived"].glob("*.csv")):
+        notes = _header(path)
+        try:
+            named.append((date_of(notes), path.name, cpu_model_of(notes)))
+        except ValueError:
+            continue
+    if not named:
+        raise ValueError("no header of data/derived/*.csv names the CPU model (run benchmarks/machine.py)")
+    date, _, model = max(named)
+    return {"CpuModel": model, "CpuModelDate": date}
+
+
+SECTIONS = {"machine": (["derived/*.csv (the CPU model in their headers)"], machine, ["CpuModel", "CpuModelDate"])}
