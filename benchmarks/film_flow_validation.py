@@ -1,4 +1,4 @@
-"""The film-flow simulation's validation figures, the black-film time and a few rendered frames.
+"""The film-flow verification (grids, conservation, time step, evaporation), black-film time, frames.
 
 Run:  python benchmarks/film_flow_validation.py [--quick] [--only {checks,dt,evaporation}] [--out PATH]
 Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) and
@@ -39,7 +39,7 @@ them from :mod:`study.film_flow`: ``plug_equilibrium_error``,
   of :data:`DT_STUDY`, halving each time, on two grids, sampled after every step
   (:func:`study.film_flow.black_film_run`): the apex's and the first cell's black-film times and
   the apex thickness at :data:`PROBE_S` s; for each three consecutive steps the observed order
-  :math:`p = \log_2(|f(\Delta t)-f(\Delta t/2)| / |f(\Delta t/2)-f(\Delta t/4)|)`
+  :math:`p = \\log_2(|f(\\Delta t)-f(\\Delta t/2)| / |f(\\Delta t/2)-f(\\Delta t/4)|)`
   (:func:`study.film_flow.observed_orders`) and Richardson's estimate from the two finer steps
   with that order (:func:`study.film_flow.richardson`; empty where the order is not positive).
   (The mean thickness is no test of the step: the scheme keeps the volume exactly, so it is
@@ -47,7 +47,8 @@ them from :mod:`study.film_flow`: ``plug_equilibrium_error``,
 * ``evaporation`` (``film_flow_evaporation.csv``): the apex's black-film time at the evaporation
   rates :data:`EVAPORATION_MULTIPLES` x the cited E, on the grids and steps of
   :data:`EVAPORATION_RUNS`, against :math:`h_{eq}(0)/E` and :math:`h_0/E`, with the share of the
-  apex's thinning that evaporation did (:attr:`study.film_flow.BlackFilm.evaporated_share`);
+  apex's thinning that evaporation did (:attr:`study.film_flow.BlackFilm.evaporated_share`)
+  and the most the flow had drained from the apex at any step (and when);
   E = 0 (the rest drains only) is run for :data:`NO_EVAPORATION_S` s.
 
 ``--quick`` uses fewer and coarser grids, a coarse black-film run and tiny frames, and for the
@@ -256,10 +257,12 @@ def evaporation_study(runs, multiples):
                              t_eq_apex_s=t_eq, t_apex_over_t_eq_apex=r.t_apex / t_eq if m > 0 else math.nan,
                              t_uniform_s=t_uniform, evaporated_share=r.evaporated_share if m > 0 else 0.0,
                              h_eq_apex_nm=heq, apex_start_nm=r.apex_start_nm, apex_end_nm=r.apex_end_nm,
+                             drained_peak_nm=r.drained_peak_nm, t_drained_peak_s=r.t_drained_peak,
                              t_end_s=r.t_end, steps=r.steps, wall_s=r.wall))
             print(f"evaporation {grid[0]}x{grid[1]} dt {dt * 1e3:g} ms E x {m:g}: apex black {r.t_apex:.4f} s, "
                   f"h_eq(0)/E {t_eq:.4f} s, ratio {rows[-1]['t_apex_over_t_eq_apex']:.4f}, evaporated share "
-                  f"{rows[-1]['evaporated_share']:.4f}, apex at the end {r.apex_end_nm:.1f} nm "
+                  f"{rows[-1]['evaporated_share']:.4f}, apex at the end {r.apex_end_nm:.1f} nm, drained at most "
+                  f"{r.drained_peak_nm:.1f} nm at {r.t_drained_peak:.3g} s "
                   f"({r.steps} steps, {r.wall:.1f} s)", flush=True)
     return rows
 
@@ -311,7 +314,8 @@ def main(argv=None):
             f"evaporation study of the black-film run (plug flow, cited defaults but E, seed 0, threshold "
             f"{BLACK_NM:g} nm); E = 0 runs {NO_EVAPORATION_S:g} s", args.quick, load_start, "evaporation") + [
             "t_eq_apex_s = h_eq(0)/E (the equilibrium's apex evaporating), t_uniform_s = h0/E; evaporated_share = "
-            "E t_apex / (apex_start - threshold), the rest of the apex's thinning is drainage"]
+            "E t_apex / (apex_start - threshold), the rest of the apex's thinning is drainage; drained_peak_nm: the most "
+            "the apex had thinned beyond E t at any step (at t_drained_peak_s)"]
         write_csv(args.evaporation_out, rows, comment, float_format="{:.7g}")
         print(f"wrote {args.evaporation_out}", file=sys.stderr)
 

@@ -258,7 +258,9 @@ class BlackFilm:
     (the top cell row, mean over φ) and the thinnest cell anywhere first go below
     ``threshold_nm`` (``nan`` if not within the run), the apex thickness (nm) at ``probe_s``
     (``nan`` if the run stopped before), at the start and at the end of the run, ``t_end`` (s),
-    the ``steps`` taken and their ``wall`` and ``cpu`` seconds."""
+    the ``steps`` taken and their ``wall`` and ``cpu`` seconds, and the most the flow had
+    drained from the apex at any step, ``drained_peak_nm`` (the apex's thinning beyond
+    :math:`E\\,t`), at ``t_drained_peak`` (s)."""
 
     dt: float
     evaporation: float
@@ -274,6 +276,8 @@ class BlackFilm:
     steps: int
     wall: float
     cpu: float
+    drained_peak_nm: float = float("nan")
+    t_drained_peak: float = float("nan")
 
     @property
     def evaporated_share(self):
@@ -325,13 +329,16 @@ def black_film_run(params, grid, dt, threshold_nm=30.0, probe_s=30.0, t_max=None
             break
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     t_end = times[-1]
+    drained = apex[0] - np.array(apex) - params.evaporation * 1e9 * np.array(times)
+    peak = int(np.argmax(drained))
     return BlackFilm(dt=float(dt), evaporation=float(params.evaporation), grid=tuple(grid),
                      threshold_nm=float(threshold_nm),
                      t_apex=first_crossing(times, apex, threshold_nm),
                      t_first=first_crossing(times, thinnest, threshold_nm), probe_s=float(probe_s),
                      apex_probe_nm=float(np.interp(probe_s, times, apex)) if probe_s <= t_end else float("nan"),
                      apex_start_nm=float(apex[0]), apex_end_nm=float(apex[-1]), t_end=float(t_end),
-                     steps=len(times) - 1, wall=wall, cpu=cpu)
+                     steps=len(times) - 1, wall=wall, cpu=cpu, drained_peak_nm=float(drained[peak]),
+                     t_drained_peak=float(times[peak]))
 
 
 def observed_orders(values):

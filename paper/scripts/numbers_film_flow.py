@@ -5,7 +5,13 @@
 * ``filmflowspeed``: ``data/derived/film_flow.csv`` (``benchmarks/film_flow.py``): ms a step, steps
   per second, the target, and the cost of a 10-s movie;
 * ``filmflowparams``: :class:`bubbleoptics.filmflow.FilmParameters` (the cited defaults) and the
-  black-film threshold of the benchmark (computed, no data file).
+  black-film threshold of the benchmark (computed, no data file);
+* ``filmflowdt``: ``data/derived/film_flow_dt.csv`` (``benchmarks/film_flow_validation.py --only dt``):
+  the black-film time and the apex at a fixed time against the step, the observed orders and
+  Richardson's estimates, on the study's grid and on the black-film run's;
+* ``filmflowevap``: ``data/derived/film_flow_evaporation.csv`` (``--only evaporation``): the
+  black-film time at each multiple of the cited evaporation rate, its ratio to h_eq(0)/E and the
+  share of the apex's thinning that evaporation does.
 """
 
 from __future__ import annotations
@@ -13,7 +19,7 @@ from __future__ import annotations
 import math
 import re
 
-from macros import date_of, machine_of, read_commented_csv, scientific, significant
+from macros import NA, date_of, machine_of, read_commented_csv, scientific, significant
 
 
 def _grid_tex(grid):
@@ -176,11 +182,193 @@ def parameters(dirs):
 
 PARAMETER_MACROS = ["FfRadiusCm", "FfHzeroUm", "FfEvaporation", "FfSurfactant", "FfExponent", "FfPerturbation"]
 
+def _float(text):
+    return float(text) if text not in ("", None) else math.nan
+
+
+def _ms(seconds):
+    """A step of the studies in ms, as the benchmark sets it (0.3125, 1.25, 40): a setting, not rounded."""
+    return f"{1e3 * seconds:.6g}"
+
+
+def _signed(x, n=2, min_decimals=2):
+    """:func:`significant`, with a negative number's minus in math mode (a minus sign, not a hyphen)."""
+    text = significant(x, n, min_decimals)
+    return rf"\ensuremath{{-{text[1:]}}}" if text.startswith("-") else text
+
+
+#: the grids of the time-step study, by their role: STUDY reaches the asymptotic range, BLACK is
+#: the black-film run's grid of film_flow_validation.csv
+DT_GRIDS = {"": "64x128", "Black": "128x256"}
+
+
+def dt_study(dirs):
+    """The time-step study (``film_flow_dt.csv``)."""
+    from bubbleoptics.filmflow import FilmParameters
+
+    notes, rows = read_commented_csv(dirs["derived"] / "film_flow_dt.csv")
+    if any("QUICK MODE" in n for n in notes):
+        raise ValueError("film_flow_dt.csv was written in quick mode")
+    out = {"FfDtDate": date_of(notes), "FfDtMachine": machine_of(notes)}
+    p = FilmParameters()
+    # the Gibbs (Marangoni) waves of the plug flow: c^2 = 2 R_g T Gamma_0 / (rho h0) = E_G / (rho h0)
+    wave = math.sqrt(p.gibbs_elasticity / (p.density * p.h0))
+    out["FfGibbsWaveSpeed"] = significant(wave, 2)
+    richardson = {}
+    for role, grid in DT_GRIDS.items():
+        runs = sorted((r for r in rows if r["grid"] == grid), key=lambda r: -float(r["dt_s"]))
+        if len(runs) < 3:
+            raise ValueError(f"film_flow_dt.csv: fewer than three steps on {grid}")
+        n_theta = int(grid.split("x")[0])
+        dts = [float(r["dt_s"]) for r in runs]
+        t_apex = [float(r["t_apex_s"]) for r in runs]
+        probe = [float(r["apex_probe_nm"]) for r in runs]
+        pre = f"FfDt{role}"
+        out[f"{pre}Grid"] = _grid_tex(grid)
+        out[f"{pre}Count"] = str(len(runs))
+        out[f"{pre}StepMaxMs"] = _ms(dts[0])
+        out[f"{pre}StepMinMs"] = _ms(dts[-1])
+        out[f"{pre}CellMs"] = significant(1e3 * p.radius * math.pi / n_theta / wave, 2)
+        out[f"{pre}ApexCoarseS"] = significant(t_apex[0], 4)
+        out[f"{pre}ApexFineS"] = significant(t_apex[-1], 4)
+        default = [t for dt, t in zip(dts, t_apex) if abs(dt - 0.01) < 1e-12]
+        if default:
+            out[f"{pre}ApexDefaultS"] = significant(default[0], 4)
+            out[f"{pre}DefaultMinusFineS"] = significant(default[0] - t_apex[-1], 2)
+        out[f"{pre}ApexSpreadS"] = significant(max(t_apex) - min(t_apex), 2)
+        out[f"{pre}ApexSpreadPercent"] = significant(100 * (max(t_apex) - min(t_apex)) / min(t_apex), 2)
+        out[f"{pre}ApexLastDiffS"] = significant(abs(t_apex[-2] - t_apex[-1]), 2)
+        orders = [_float(r["order_t_apex"]) for r in runs[2:]]
+        probe_orders = [_float(r["order_apex_probe"]) for r in runs[2:]]
+        out[f"{pre}OrderApexLast"] = _signed(orders[-1])
+        # the orders of the longer steps: every triple but the finest
+        out[f"{pre}OrderApexMin"] = _signed(min(orders[:-1]))
+        out[f"{pre}OrderApexMax"] = _signed(max(orders[:-1]))
+        out[f"{pre}OrderProbeLast"] = _signed(probe_orders[-1])
+        out[f"{pre}ProbeFineNm"] = significant(probe[-1], 4)
+        out[f"{pre}ProbeCoarseNm"] = significant(probe[0], 4)
+        out[f"{pre}OrderLastPositive"] = "1" if orders[-1] > 0 else "0"
+        rich = _float(runs[-1]["richardson_t_apex_s"])
+        richardson[role] = rich
+        if role == "" and math.isfinite(rich):
+            out[f"{pre}RichardsonApexS"] = significant(rich, 4)
+            out[f"{pre}FineMinusRichardsonS"] = significant(t_apex[-1] - rich, 2)
+            if default:
+                out[f"{pre}DefaultMinusRichardsonS"] = significant(default[0] - rich, 2)
+                out[f"{pre}DefaultOverRichardsonPercent"] = significant(100 * (default[0] / rich - 1), 2)
+        rich_probe = _float(runs[-1]["richardson_apex_probe_nm"])
+        if role == "" and math.isfinite(rich_probe):
+            out[f"{pre}RichardsonProbeNm"] = significant(rich_probe, 4)
+    out["FfDtProbeS"] = significant(float(rows[0]["probe_s"]), 2)
+    out["FfDtRichardsonOverEqApex"] = NA
+    if math.isfinite(richardson.get("", math.nan)):
+        heq_time = _equilibrium_apex_nm(p) * 1e-9 / p.evaporation
+        out["FfDtRichardsonOverEqApex"] = significant(richardson[""] / heq_time, 4)
+    return {k: v for k, v in out.items() if v != NA}
+
+
+def _equilibrium_apex_nm(p):
+    a = p.equilibrium_exponent
+    return p.h0 * 1e9 * a / math.sinh(a) * math.exp(-a)
+
+
+DT_SUFFIXES = ("Grid", "Count", "StepMaxMs", "StepMinMs", "CellMs", "ApexCoarseS", "ApexFineS", "ApexDefaultS",
+               "DefaultMinusFineS", "ApexSpreadS", "ApexSpreadPercent", "ApexLastDiffS", "OrderApexLast",
+               "OrderApexMin", "OrderApexMax", "OrderProbeLast", "ProbeFineNm", "ProbeCoarseNm", "OrderLastPositive")
+#: Richardson's estimates: on the study's grid only (on the black-film grid the steps run do not
+#: reach the asymptotic range, and the text says so)
+RICHARDSON_SUFFIXES = ("RichardsonApexS", "FineMinusRichardsonS", "DefaultMinusRichardsonS",
+                       "DefaultOverRichardsonPercent", "RichardsonProbeNm")
+DT_MACROS = ["FfDtDate", "FfDtMachine", "FfGibbsWaveSpeed", "FfDtProbeS", "FfDtRichardsonOverEqApex"] + [
+    f"FfDt{role}{suffix}" for role in DT_GRIDS for suffix in DT_SUFFIXES] + [f"FfDt{s}" for s in RICHARDSON_SUFFIXES]
+
+#: the evaporation multiples, by macro word
+MULTIPLES = {"Quarter": 0.25, "Half": 0.5, "One": 1.0, "Two": 2.0, "Four": 4.0}
+#: the evaporation study's runs, by role: "" the small-step run (time-converged), "Black" the
+#: black-film run's grid and step
+EVAP_RUNS = {"": ("32x64", 0.000625), "Black": ("128x256", 0.01)}
+
+
+def evaporation_study(dirs):
+    """The evaporation study (``film_flow_evaporation.csv``)."""
+    notes, rows = read_commented_csv(dirs["derived"] / "film_flow_evaporation.csv")
+    if any("QUICK MODE" in n for n in notes):
+        raise ValueError("film_flow_evaporation.csv was written in quick mode")
+    out = {"FfEvDate": date_of(notes), "FfEvMachine": machine_of(notes)}
+    zero_s = re.search(r"E = 0 runs ([0-9.]+) s", " ".join(notes))
+    threshold = float(re.search(r"threshold ([0-9.]+) nm", " ".join(notes)).group(1))
+    for role, (grid, dt) in EVAP_RUNS.items():
+        runs = {float(r["evaporation_multiple"]): r for r in rows
+                if r["grid"] == grid and abs(float(r["dt_s"]) - dt) < 1e-12}
+        pre = f"FfEv{role}"
+        out[f"{pre}Grid"] = _grid_tex(grid)
+        out[f"{pre}StepMs"] = _ms(dt)
+        ratios, shares = [], []
+        for word, m in MULTIPLES.items():
+            r = runs[m]
+            out[f"{pre}T{word}S"] = significant(float(r["t_apex_s"]), 3)
+            out[f"{pre}Eq{word}S"] = significant(float(r["t_eq_apex_s"]), 3)
+            ratios.append(float(r["t_apex_over_t_eq_apex"]))
+            out[f"{pre}Ratio{word}"] = significant(ratios[-1], 4)
+            shares.append(float(r["evaporated_share"]))
+            out[f"{pre}Share{word}Percent"] = significant(100 * shares[-1], 2)
+        out[f"{pre}RatioMin"] = significant(min(ratios), 4)
+        out[f"{pre}RatioMax"] = significant(max(ratios), 4)
+        out[f"{pre}SharePercentMin"] = significant(100 * min(shares), 2)
+        out[f"{pre}SharePercentMax"] = significant(100 * max(shares), 2)
+        out[f"{pre}DrainPercentMin"] = significant(100 * (1 - max(shares)), 2)
+        out[f"{pre}DrainPercentMax"] = significant(100 * (1 - min(shares)), 2)
+        # E t_black is nearly constant: the black time is inversely proportional to E
+        et = [m * float(runs[m]["t_apex_s"]) for m in MULTIPLES.values()]
+        out[f"{pre}ETSpreadPercent"] = significant(100 * (max(et) - min(et)) / min(et), 2)
+        zero = runs.get(0.0)
+        if zero is not None:
+            if math.isfinite(_float(zero["t_apex_s"])):
+                raise ValueError("film_flow_evaporation.csv: the film without evaporation turned black")
+            out[f"{pre}ZeroApexNm"] = significant(float(zero["apex_end_nm"]), 3)
+            out[f"{pre}ZeroHeqNm"] = significant(float(zero["h_eq_apex_nm"]), 3)
+            out[f"{pre}ZeroMinusHeqPercent"] = significant(
+                100 * (float(zero["apex_end_nm"]) / float(zero["h_eq_apex_nm"]) - 1), 2)
+            out[f"{pre}ZeroS"] = significant(float(zero["t_end_s"]), 3)
+        cited = runs[1.0]
+        out[f"{pre}ApexStartNm"] = significant(float(cited["apex_start_nm"]), 4)
+        # drainage at the apex with the cited E: its most (early) and its net at the black-film time
+        net = float(cited["apex_start_nm"]) - threshold - float(cited["evaporation_m_per_s"]) * 1e9 * float(cited["t_apex_s"])
+        if "drained_peak_nm" in cited:
+            out[f"{pre}DrainedPeakNm"] = significant(float(cited["drained_peak_nm"]), 3)
+            out[f"{pre}DrainedPeakS"] = significant(float(cited["t_drained_peak_s"]), 3)
+        out[f"{pre}DrainedNetNm"] = significant(net, 3)
+    # the grid at one step: the small-step run against the time-step study's grid at the same step
+    grid, dt = EVAP_RUNS[""]
+    _, dt_rows = read_commented_csv(dirs["derived"] / "film_flow_dt.csv")
+    same = [r for r in dt_rows if r["grid"] == DT_GRIDS[""] and abs(float(r["dt_s"]) - dt) < 1e-12]
+    if len(same) == 1:
+        mine = next(r for r in rows if r["grid"] == grid and abs(float(r["dt_s"]) - dt) < 1e-12
+                    and float(r["evaporation_multiple"]) == 1.0)
+        out["FfEvGridDiffS"] = significant(abs(float(mine["t_apex_s"]) - float(same[0]["t_apex_s"])), 1)
+    out["FfEvMultipleMin"] = f"{min(MULTIPLES.values()):g}"
+    out["FfEvMultipleMax"] = f"{max(MULTIPLES.values()):g}"
+    if zero_s:
+        out["FfEvZeroRunS"] = significant(float(zero_s.group(1)), 3)
+    return out
+
+
+EVAP_SUFFIXES = (["Grid", "StepMs", "RatioMin", "RatioMax", "SharePercentMin", "SharePercentMax", "DrainPercentMin",
+                  "DrainPercentMax", "ETSpreadPercent", "ZeroApexNm", "ZeroHeqNm", "ZeroMinusHeqPercent", "ZeroS",
+                  "ApexStartNm", "DrainedPeakNm", "DrainedPeakS", "DrainedNetNm"]
+                 + [f"{kind}{word}{unit}" for word in MULTIPLES
+                    for kind, unit in (("T", "S"), ("Eq", "S"), ("Ratio", ""), ("Share", "Percent"))])
+EVAP_MACROS = ["FfEvDate", "FfEvMachine", "FfEvMultipleMin", "FfEvMultipleMax", "FfEvZeroRunS", "FfEvGridDiffS"] + [
+    f"FfEv{role}{suffix}" for role in EVAP_RUNS for suffix in EVAP_SUFFIXES]
+
 SECTIONS = {
     "filmflowvalid": (["derived/film_flow_validation.csv"], validation, VALIDATION_MACROS),
     "filmflowspeed": (["derived/film_flow.csv"], speed, SPEED_MACROS),
     "filmflowparams": (["bubbleoptics.filmflow.FilmParameters"], parameters, PARAMETER_MACROS),
+    "filmflowdt": (["derived/film_flow_dt.csv"], dt_study, DT_MACROS),
+    "filmflowevap": (["derived/film_flow_evaporation.csv", "derived/film_flow_dt.csv"], evaporation_study,
+                     EVAP_MACROS),
 }
 
 #: \ifnum flags: 0 when their section fails
-FLAGS = {"FfTargetMet": "0"}
+FLAGS = {"FfTargetMet": "0", "FfDtOrderLastPositive": "0", "FfDtBlackOrderLastPositive": "0"}
