@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import re
 
-from macros import NA, date_of, machine_of, read_commented_csv, scientific, significant
+from macros import NA, date_of, machine_of, read_commented_csv, scientific, significant, up_to
 
 
 def _grid_tex(grid):
@@ -320,7 +320,7 @@ def evaporation_study(dirs):
         out[f"{pre}DrainPercentMax"] = significant(100 * (1 - min(shares)), 2)
         # E t_black is nearly constant: the black time is inversely proportional to E
         et = [m * float(runs[m]["t_apex_s"]) for m in MULTIPLES.values()]
-        out[f"{pre}ETSpreadPercent"] = significant(100 * (max(et) - min(et)) / min(et), 2)
+        out[f"{pre}ETSpreadPercent"] = up_to(100 * (max(et) - min(et)) / min(et), 2)  # after "within"
         zero = runs.get(0.0)
         if zero is not None:
             if math.isfinite(_float(zero["t_apex_s"])):
