@@ -67,7 +67,7 @@ __all__ = [
     "shadow_transmittance",
     "shadow_along",
     "sphere_light",
-    "trace_camera_ray",
+    "render_row",
     "render_rows",
     "scene_features",
     "FEATURES",
@@ -412,17 +412,34 @@ def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, 
     return sp
 
 
-@njit(inline="always", **JIT_NO_NRT)
-def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key, mesh, area, film, phong, xfilm):
-    """Radiance per channel into ``ws.L`` of the camera ray (o0, d0), whose nearest hit *hit0*
-    (from :func:`closest_hit`) is already known and is not a miss.
+@njit(**JIT_NO_NRT)
+def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, image, counts, spectrum, mesh, area, film, phong, xfilm):
+    """Render image row *y* into row ``y - row0`` of *image*, *counts* and *spectrum* (see
+    :func:`render_rows`) with the thread's workspace *ws*.
+
+    Each camera sample's nearest hit is found here; a miss is the environment, straight to RGB;
+    a hit starts the ray tree, walked depth first on the workspace's stack: at every hit the
+    surface gives the two children (:func:`tracer.kernels.surfaces.scatter`), its ambient term
+    and what it sends toward each light (with a shadow ray), and the children are pushed
+    (:func:`_child`) or cut and ended with the environment.
 
     Chords: a ray that enters a sphere, or is reflected inside one, runs along a chord and
     meets the sphere again at the angle it started with.  Such a child carries that cosine, and
     when its next hit is that sphere the surface is evaluated at exactly that cosine (rather
     than the one recomputed from a hit point moved by the ray-origin offset), which keeps the
     chord property exact and lets the film reuse its set-up (:mod:`tracer.kernels.surfaces.soap_film`).
-    """
+
+    The tree is written here rather than in a function of its own: numba's ``inline="always"``
+    copies a callee's IR, with all it inlines, into its caller, so every level of inlining
+    copies everything below it once more.  Written in the pixel loop, the tree is copied once
+    less, which cut the first compile of the built-in scene by about a fifth and its memory by
+    two fifths (docs/performance.md); the warm kernel is the same code."""
+    cam = scene.camera[0]
+    env = scene.environment[0]
+    o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
+    M = scene.rgb_round_trip
+    to_rgb = scene.to_rgb
+    basis = scene.rgb_basis
     L = ws.L
     w = ws.w
     nc = L.shape[0]
@@ -432,117 +449,15 @@ def trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, key, mesh, area,
     light_w = ws.light_w
     trans = ws.trans
     rad = scene.light_radiance
-    for c in range(nc):
-        L[c] = 0.0
-        ws.child[c] = 1.0
-    sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0, -1)
-    first = True
     eps = scene.eps
     lights = scene.lights
     cancel = ws.cancel
-    vertex = 0  # hits so far in this camera ray's tree (a spherical light's sample stream)
-    while sp > 0:
-        if cancel[0] != 0:
-            return  # cancelled (Ctrl-C): the caller discards the image
-        sp -= 1
-        o = (stack_o[sp, 0], stack_o[sp, 1], stack_o[sp, 2])
-        d = (stack_d[sp, 0], stack_d[sp, 1], stack_d[sp, 2])
-        gen = ws.stack_gen[sp]
-        inside = ws.stack_inside[sp]
-        chord = ws.stack_chord[sp]
-        skip = ws.stack_skip[sp]
-        for c in range(nc):
-            w[c] = stack_w[sp, c]  # the stack slot is reused by the children
-        if first:
-            kind, idx, t, entering = hit0
-            first = False
-        else:
-            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip, mesh)
-        if kind == GEOM_NONE:
-            add_environment(scene, L, w, ws.ones, d)
-            continue
-        skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t, mesh)
-        dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
-        cos_g = abs(dn)  # geometric cos(theta), for directions
-        sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
-        nf = (sgn * n[0], sgn * n[1], sgn * n[2])
-        nfo = offset_normal(scene, kind, idx, nf, sgn, mesh)  # the geometric side, for ray origins
-        on_sphere = kind == GEOM_SPHERE
-        cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
-        hit = (p, n, nf, d, cos_i, entering)
-        tdir = surfaces.scatter(scene, ws, skind, sidx, hit, film, phong, xfilm)
-        p_front = offset_origin(p, nfo, eps)
-        # local terms: ambient and the lights
-        surfaces.ambient(scene, skind, sidx, w, L, film, phong)
-        for j in range(lights.shape[0]):
-            lt = lights[j]
-            lp = lt.position
-            lpos = (lp[0], lp[1], lp[2])
-            if area is not None and lt.radius > 0.0:  # (no spherical lights: pruned when compiled)
-                sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold,
-                             mesh, film, phong, xfilm)
-                continue
-            scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" leaves it unchanged
-            if lt.falloff == FALLOFF_INVERSE_SQUARE:
-                r2 = (lpos[0] - p[0]) ** 2 + (lpos[1] - p[1]) ** 2 + (lpos[2] - p[2]) ** 2
-                if not r2 > _R2_MIN:
-                    continue  # a light on the surface lights nothing (light_terms) and makes no inf
-                scale = 1.0 / r2
-            ndl, rv = light_terms(lpos, p, nf, d)
-            if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w, film, phong):
-                continue
-            if threshold > 0.0:
-                bound = 0.0
-                for c in range(nc):
-                    bound = max(bound, w[c] * light_w[c] * (rad[j, c] * scale))
-                if bound <= threshold:
-                    continue  # this light can add at most `threshold` here: pruned
-            if shadow_transmittance(scene, ws, p_front, lpos, trans, mesh, film, phong, xfilm):
-                for c in range(nc):
-                    L[c] += w[c] * light_w[c] * (rad[j, c] * scale) * trans[c]
-        vertex += 1
-        # children: transmitted first (deeper in the stack), reflected on top; on a sphere the
-        # one that ends up inside runs along a chord
-        p_back = offset_origin(p, nfo, -eps)
-        refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
-        # (on a sphere the one that ends up outside leaves it for good: it need not be tested)
-        t_inside = -1
-        t_chord = 0.0
-        t_skip = -1
-        r_inside = -1
-        r_skip = -1
-        if on_sphere and entering:
-            t_inside = idx
-            t_chord = cos_i if (tdir[0] == d[0] and tdir[1] == d[1] and tdir[2] == d[2]) else \
-                abs(tdir[0] * n[0] + tdir[1] * n[1] + tdir[2] * n[2])
-            r_skip = idx
-        elif on_sphere:
-            r_inside = idx
-            t_skip = idx
-        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord,
-                    t_skip)
-        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i,
-                    r_skip)
-
-
-@njit(**JIT_NO_NRT)
-def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, image, counts, spectrum, mesh, area, film, phong, xfilm):
-    """Render image row *y* into row ``y - row0`` of *image*, *counts* and *spectrum* (see
-    :func:`render_rows`) with the thread's workspace *ws*."""
-    cam = scene.camera[0]
-    env = scene.environment[0]
-    o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
-    M = scene.rgb_round_trip
-    to_rgb = scene.to_rgb
-    basis = scene.rgb_basis
-    L = ws.L
-    nc = L.shape[0]
     ray_counts = ws.counts
     iy = y - row0  # the row's place in the output arrays
-    for i in range(N_COUNTS):  # here, not in render_rows' parallel loop: numba's parfor pass
-        ray_counts[i] = 0  # hoisted that reset out of the loop over a task's rows
+    for i in range(N_COUNTS):  # the row's ray counts, from zero
+        ray_counts[i] = 0
     for x in range(width):
-        if ws.cancel[0] != 0:
+        if cancel[0] != 0:
             break
         pix = y * width + x
         r = 0.0
@@ -566,7 +481,96 @@ def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, i
                     for c in range(nc):
                         spectrum[iy, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
                 continue
-            trace_camera_ray(scene, ws, o0, d0, hit0, depth, threshold, sample_key(seed, pix, s), mesh, area, film, phong, xfilm)
+            # the camera ray's tree (see the docstring)
+            key = sample_key(seed, pix, s)
+            for c in range(nc):
+                L[c] = 0.0
+                ws.child[c] = 1.0
+            sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0, -1)
+            first = True
+            vertex = 0  # hits so far in this camera ray's tree (a spherical light's sample stream)
+            while sp > 0:
+                if cancel[0] != 0:
+                    break  # cancelled (Ctrl-C): the caller discards the image
+                sp -= 1
+                o = (stack_o[sp, 0], stack_o[sp, 1], stack_o[sp, 2])
+                d = (stack_d[sp, 0], stack_d[sp, 1], stack_d[sp, 2])
+                gen = ws.stack_gen[sp]
+                inside = ws.stack_inside[sp]
+                chord = ws.stack_chord[sp]
+                skip = ws.stack_skip[sp]
+                for c in range(nc):
+                    w[c] = stack_w[sp, c]  # the stack slot is reused by the children
+                if first:
+                    kind, idx, t, entering = hit0
+                    first = False
+                else:
+                    kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip, mesh)
+                if kind == GEOM_NONE:
+                    add_environment(scene, L, w, ws.ones, d)
+                    continue
+                skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t, mesh)
+                dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
+                cos_g = abs(dn)  # geometric cos(theta), for directions
+                sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
+                nf = (sgn * n[0], sgn * n[1], sgn * n[2])
+                nfo = offset_normal(scene, kind, idx, nf, sgn, mesh)  # the geometric side, for ray origins
+                on_sphere = kind == GEOM_SPHERE
+                cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
+                hit = (p, n, nf, d, cos_i, entering)
+                tdir = surfaces.scatter(scene, ws, skind, sidx, hit, film, phong, xfilm)
+                p_front = offset_origin(p, nfo, eps)
+                # local terms: ambient and the lights
+                surfaces.ambient(scene, skind, sidx, w, L, film, phong)
+                for j in range(lights.shape[0]):
+                    lt = lights[j]
+                    lp = lt.position
+                    lpos = (lp[0], lp[1], lp[2])
+                    if area is not None and lt.radius > 0.0:  # (no spherical lights: pruned when compiled)
+                        sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold,
+                                     mesh, film, phong, xfilm)
+                        continue
+                    scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" leaves it unchanged
+                    if lt.falloff == FALLOFF_INVERSE_SQUARE:
+                        r2 = (lpos[0] - p[0]) ** 2 + (lpos[1] - p[1]) ** 2 + (lpos[2] - p[2]) ** 2
+                        if not r2 > _R2_MIN:
+                            continue  # a light on the surface lights nothing (light_terms) and makes no inf
+                        scale = 1.0 / r2
+                    ndl, rv = light_terms(lpos, p, nf, d)
+                    if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w, film, phong):
+                        continue
+                    if threshold > 0.0:
+                        bound = 0.0
+                        for c in range(nc):
+                            bound = max(bound, w[c] * light_w[c] * (rad[j, c] * scale))
+                        if bound <= threshold:
+                            continue  # this light can add at most `threshold` here: pruned
+                    if shadow_transmittance(scene, ws, p_front, lpos, trans, mesh, film, phong, xfilm):
+                        for c in range(nc):
+                            L[c] += w[c] * light_w[c] * (rad[j, c] * scale) * trans[c]
+                vertex += 1
+                # children: transmitted first (deeper in the stack), reflected on top; on a sphere the
+                # one that ends up inside runs along a chord
+                p_back = offset_origin(p, nfo, -eps)
+                refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
+                # (on a sphere the one that ends up outside leaves it for good: it need not be tested)
+                t_inside = -1
+                t_chord = 0.0
+                t_skip = -1
+                r_inside = -1
+                r_skip = -1
+                if on_sphere and entering:
+                    t_inside = idx
+                    t_chord = cos_i if (tdir[0] == d[0] and tdir[1] == d[1] and tdir[2] == d[2]) else \
+                        abs(tdir[0] * n[0] + tdir[1] * n[1] + tdir[2] * n[2])
+                    r_skip = idx
+                elif on_sphere:
+                    r_inside = idx
+                    t_skip = idx
+                sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord,
+                            t_skip)
+                sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i,
+                            r_skip)
             for c in range(nc):
                 r += to_rgb[0, c] * L[c]
                 g += to_rgb[1, c] * L[c]
