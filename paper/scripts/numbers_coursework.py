@@ -63,11 +63,26 @@ def spread(dirs):
     out["IdenticalRatioMax"] = f"{max(ratios):.2f}"
     out["IdenticalAgree"] = "1" if all(c["overlap"] for c in checks) else "0"
     out["IdenticalDisagreeCount"] = str(sum(not c["overlap"] for c in checks))
+    # the depth-1 trees share their camera rays; the threshold drops low-throughput shadow rays
+    diffs = [abs(c["rays_exhaustive"] - c["rays_pruned"]) / c["rays_exhaustive"] for c in checks]
+    out["IdenticalRaysDiffMax"] = up_to(100 * max(diffs), 2)  # "by at most"
+    for mode, name in (("pruned", "IdenticalShadowPrunedOne"), ("exhaustive", "IdenticalShadowExhaustiveOne")):
+        out[name] = _shadow_rays(dirs, 1, 1, mode)
     return out
 
 
+def _shadow_rays(dirs, bubbles, depth, mode):
+    """The shadow rays of one cell of coursework_table.csv (grouped digits)."""
+    _, rows = read_commented_csv(dirs["derived"] / "coursework_table.csv")
+    for r in rows:
+        if int(r["bubbles"]) == bubbles and int(r["depth"]) == depth and r["mode"] == mode:
+            return group_digits(str(int(float(r["rays_shadow"]))))
+    raise ValueError(f"no row for {bubbles} bubbles, depth {depth}, {mode}")
+
+
 SPREAD_MACROS = ["OursLoadBefore", "OursLoadAfter", "OursSpreadMedian", "OursSpreadMax", "OursRangeMax",
-                 "IdenticalRatioMin", "IdenticalRatioMax", "IdenticalAgree", "IdenticalDisagreeCount"]
+                 "IdenticalRatioMin", "IdenticalRatioMax", "IdenticalAgree", "IdenticalDisagreeCount",
+                 "IdenticalRaysDiffMax", "IdenticalShadowPrunedOne", "IdenticalShadowExhaustiveOne"]
 
 
 def threads(dirs):
@@ -142,6 +157,10 @@ def rays(dirs):
     cw = _coursework_intervals(dirs, n_boot=0)
     cw_low = min(i.profile[0] for i in cw.values())
     below, overlap_count = True, 0
+    from study import load_coursework_table
+
+    table = load_coursework_table(dirs["data"] / "coursework_table_4_1.csv")
+    ten_times, ten_ratios = [], []
     for nb, word in WORDS.items():
         depth, br = rays_series(data, "thin film", nb, "branching")
         thin += list(br[np.isfinite(br)])
@@ -157,6 +176,9 @@ def rays(dirs):
         d, t = rays_series(data, "two spheres", nb, "seconds_median")
         out[f"TwoSphereTimeTen{word}"] = significant(t[-1], 2)
         out[f"TwoSphereTimeGrowth{word}"] = significant(t[-1] / t[0], 2)
+        cw_ten = float(np.asarray(table["seconds"][nb])[np.asarray(table["depth"]) == d[-1]][0])
+        ten_times.append(float(t[-1]))
+        ten_ratios.append(cw_ten / float(t[-1]))
         ci = branching_interval(d, t, level=LEVEL, n_boot=0)
         out[f"TwoSphereTimeBranch{word}"] = f"{ci.b:.3f}"
         out[f"TwoSphereTimeBranchLow{word}"] = f"{ci.profile[0]:.3f}"
@@ -168,6 +190,11 @@ def rays(dirs):
         out[f"RaysTwoTotalBranchLow{word}"] = f"{ci_rays.profile[0]:.3f}"
         out[f"RaysTwoTotalBranchHigh{word}"] = f"{ci_rays.profile[1]:.3f}"
         below = below and ci_rays.profile[1] < cw_low
+    # the like-for-like comparison: the coursework's depth-10 times over our two-sphere trees'
+    out["TwoSphereTimeTenMin"] = significant(min(ten_times), 2)
+    out["TwoSphereTimeTenMax"] = significant(max(ten_times), 2)
+    out["TwoSphereSpeedupTenMin"] = significant(min(ten_ratios), 2)
+    out["TwoSphereSpeedupTenMax"] = significant(max(ten_ratios), 2)
     out["RaysThinBranchMin"] = f"{min(thin):.3f}"
     out["RaysThinBranchMax"] = f"{max(thin):.3f}"
     out["RaysTwoBranchLateMin"] = f"{min(two_late):.3f}"
@@ -190,7 +217,8 @@ def two_sphere_scene(dirs):
 
 RAYS_MACROS = (["RaysMachine", "RaysDate", "RaysWidth", "RaysRepeats", "RaysLoadBefore", "RaysLoadAfter",
                 "RaysThinBranchMin", "RaysThinBranchMax", "RaysTwoBranchLateMin", "RaysTwoBranchLateMax",
-                "TwoSphereRaysBelowCoursework", "TwoSphereTimeOverlapCount", "GoldenBelowCoursework"]
+                "TwoSphereRaysBelowCoursework", "TwoSphereTimeOverlapCount", "GoldenBelowCoursework",
+                "TwoSphereTimeTenMin", "TwoSphereTimeTenMax", "TwoSphereSpeedupTenMin", "TwoSphereSpeedupTenMax"]
                + [f"{k}{w}" for k in ("RaysTwoBranchTen", "RaysTwoLevelTen", "RaysTwoTotalGrowth", "RaysThinTotalGrowth",
                                       "TwoSphereTimeTen", "TwoSphereTimeGrowth", "TwoSphereTimeBranch",
                                       "TwoSphereTimeBranchLow", "TwoSphereTimeBranchHigh", "RaysTwoTotalBranch",

@@ -46,23 +46,32 @@ def figures_dir() -> Path:
     return FIGURES
 
 
-_INPUT = re.compile(r"\\input\{(sections/[A-Za-z0-9_]+)\}")
+_INPUT = re.compile(r"\\input\{((?:sections/)?[A-Za-z0-9_]+)\}")
 
 
 def paper_source(paper=None) -> str:
-    """The text of ``paper.tex`` with every ``\\input{sections/NAME}`` replaced by that file (one
-    level; the sections input nothing), as LaTeX reads it: what the tests scan for typed numbers,
-    macros and figure slots.  A missing section file is an error naming it."""
+    """The text of ``paper.tex`` with its ``\\input{preamble}`` and every ``\\input{sections/NAME}``
+    replaced by that file (one level; the sections input nothing), as LaTeX reads it, followed by
+    the document body of ``supplement.tex`` (from its ``\\begin{document}``, expanded the same way)
+    when there is one: what the tests scan for typed numbers, macros and figure slots in both PDFs.
+    A missing input file is an error naming it (``numbers`` is the generated macro file, left as is)."""
     folder = Path(paper) if paper is not None else PAPER
-    text = (folder / "paper.tex").read_text(encoding="utf-8")
 
     def expand(match):
+        if match.group(1) == "numbers":
+            return match.group(0)
         path = folder / f"{match.group(1)}.tex"
         if not path.exists():
             raise FileNotFoundError(f"paper.tex inputs {match.group(1)}, but {path} does not exist")
         return path.read_text(encoding="utf-8")
 
-    return _INPUT.sub(expand, text)
+    text = _INPUT.sub(expand, (folder / "paper.tex").read_text(encoding="utf-8"))
+    supplement = folder / "supplement.tex"
+    if supplement.exists():
+        body = supplement.read_text(encoding="utf-8")
+        body = body[body.find("\\begin{document}"):] if "\\begin{document}" in body else body
+        text += "\n" + _INPUT.sub(expand, body)
+    return text
 
 
 def parse_args(description: str, argv=None) -> argparse.Namespace:
