@@ -91,7 +91,7 @@ _R2_MIN = 1e-300
 
 
 class Workspace(NamedTuple):
-    """One thread's scratch arrays (allocated per image row by :func:`new_workspace`)."""
+    """One thread's scratch arrays (:func:`new_workspace`), reused by every row the thread renders."""
 
     stack_o: np.ndarray  # (S, 3) ray origins
     stack_d: np.ndarray  # (S, 3) directions
@@ -126,11 +126,14 @@ class Workspace(NamedTuple):
     cancel: np.ndarray  # (1,) int64 shared by every thread: stop as soon as it is non-zero
 
 
-@njit(**JIT)
 def new_workspace(scene, depth, cancel):
     """A :class:`Workspace` for *scene* and trace depth *depth* (its ray stack holds
     ``depth + 8`` rays: a depth-first walk keeps at most one pending sibling per level), and
-    the shared cancel flag *cancel*."""
+    the shared cancel flag *cancel*.
+
+    Plain NumPy, called from Python once per render thread
+    (:func:`tracer.rendering.local.rows_call`): a compiled allocator cost the first render about
+    1.5 s of compile, and the films' kept set-ups then last the whole render."""
     nc = scene.rgb_basis.shape[0]
     nb = scene.films.shape[0]
     size = depth + 8
@@ -625,7 +628,7 @@ def scene_features(scene) -> tuple:
 
 @njit(nogil=True, **JIT)
 def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, height, spp, seed, depth, threshold, image, counts,
-                spectrum, cancel, mesh, area, film, phong, xfilm):
+                spectrum, ws, mesh, area, film, phong, xfilm):
     """Render the rows ``rows`` (int64, distinct, any order, each from *row0* to
     ``row0 + image.shape[0] - 1``) of the (height, width) image into ``image`` (rows, width, 3:
     linear sRGB; image row *y* at ``image[y - row0]``) and their ray counts into ``counts``
@@ -643,11 +646,12 @@ def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, heigh
     *mesh*, *area*, *film*, *phong*, *xfilm*: the scene's feature flags (:func:`scene_features`);
     a flag that is None compiles the render without that feature's code.
 
-    ``cancel`` (1,) int64: the call stops at its next ray once ``cancel[0]`` is non-zero
-    (set by another Python thread: this kernel releases the GIL), leaving the image partial.
+    *ws*: the calling thread's :class:`Workspace` (:func:`new_workspace`), whose ``cancel``
+    (1,) int64 stops the call at its next ray once ``cancel[0]`` is non-zero (set by another
+    Python thread: this kernel releases the GIL), leaving the image partial.
 
     The rows are cut into tasks of *rows_per_task* consecutive entries of *rows*; this call
-    renders tasks ``task0, task0 + task_step, ...`` with one workspace.  The kernel itself is
+    renders tasks ``task0, task0 + task_step, ...`` with the workspace *ws*.  The kernel itself is
     serial: :func:`tracer.rendering.local.rows_call` runs one call per thread (``task0`` the
     thread's number, ``task_step`` the number of threads), from Python threads, since the
     kernel releases the GIL.  A ``parallel=True`` loop here cost the first render about 25 s of
@@ -658,7 +662,6 @@ def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, heigh
     """
     n = rows.shape[0]
     n_tasks = (n + rows_per_task - 1) // rows_per_task
-    ws = new_workspace(scene, depth, cancel)
     for task in range(task0, n_tasks, task_step):
         for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
             render_row(scene, ws, rows[k], row0, width, height, spp, seed, depth, threshold, image, counts, spectrum,

@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ..kernels.integrator import N_COUNTS, render_rows, scene_features
+from ..kernels.integrator import N_COUNTS, new_workspace, render_rows, scene_features
 from ..kernels.records import PackedScene
 
 __all__ = ["render_in_parts", "render_here", "render_tile", "warm_up", "is_compiled", "feature_names", "COMPILE_NOTICE", "RenderCancelled", "PARALLEL_LOCK",
@@ -98,10 +98,11 @@ def rows_call(packed: PackedScene, rows, width, height, spp, seed, depth, thresh
 
     def work(_):
         try:
+            ws = new_workspace(packed, depth, cancel)
             for task in tasks:
                 if cancel[0]:
                     break
-                render_rows(*arguments[:4], task, n_tasks, *arguments[6:])
+                render_rows(*arguments[:4], task, n_tasks, *arguments[6:15], ws, *arguments[16:])
         except BaseException as exc:  # re-raised in the calling thread
             failure.append(exc)
             cancel[0] = 1  # the other threads stop too
@@ -169,7 +170,8 @@ def is_compiled(packed: PackedScene, spectral_image=False, features=None) -> boo
     import numba
 
     try:
-        arguments = _kernel_arguments(*_one_pixel(packed, spectral_image), 0, np.zeros(1, dtype=np.int64), features)
+        arguments = list(_kernel_arguments(*_one_pixel(packed, spectral_image), 0, np.zeros(1, dtype=np.int64), features))
+        arguments[15] = new_workspace(packed, 1, arguments[15])
         sig = tuple(numba.typeof(a) for a in arguments)
         if any(tuple(key) == sig for key in render_rows.overloads):
             return True
