@@ -38,6 +38,7 @@ FLOOR = 1e-18
 EPS = np.finfo(float).eps
 STRIP_BANDS = (8, 16, 32, 81)
 BANDLIMITED_STRIP = 8  # the band-limited strip, when the CSV has that method
+LEGEND_FREE = 0.86  # (b)'s onset lines stop at this fraction of the height, below the legend
 
 
 def read_table(path):
@@ -111,7 +112,7 @@ def main(argv=None):
         pred = float(s["onset_pred_400_nm"][0])
         onsets[N] = (pred, float(s["onset_measured_nm"][0]))
         if pred <= d[-1]:
-            ax_b.axvline(pred / 1000, color=band_colors[N], ls="--", lw=0.6)
+            ax_b.axvline(pred / 1000, color=band_colors[N], ls="--", lw=0.6, ymax=LEGEND_FREE)
         if has_bandlimited:
             b = select(aliasing, method="bandlimited", n_bands=N)
             if b["dE00"].size:
