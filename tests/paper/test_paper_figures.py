@@ -9,7 +9,8 @@ on its output.  A failing script stops ``make_figures.py`` with the script's nam
 Legible at print size: ``paper.tex`` places every figure at its natural size, so each PDF's page
 must be as wide as its slot there (one column in ``figure``, the text width in ``figure*``, from
 the geometry the paper sets), within ``SLOT_TOLERANCE``; the scripts' save helper refuses texts
-smaller than 7 pt (``style.savefig``), and no figure may embed a Type 3 (bitmap) font (checked
+smaller than 7 pt and texts outside the figure (``style.savefig``; its records are checked by
+``tests/paper/test_figure_legibility.py``), and no figure may embed a Type 3 (bitmap) font (checked
 with ``pdffonts`` where poppler-utils is installed).
 """
 
@@ -107,12 +108,14 @@ def quick_figures(tmp_path_factory):
 @pytest.mark.api
 def test_make_figures_quick_writes_every_figure(quick_figures):
     out, proc = quick_figures
-    expected = {f"{p.stem}.{ext}" for p in FIGURE_SCRIPTS for ext in ("pdf", "png")}
+    expected = {f"{p.stem}.{ext}" for p in FIGURE_SCRIPTS for ext in ("pdf", "png", "legibility.json")}
     written = {p.name for p in out.iterdir()}
     assert written == expected, f"missing {expected - written}, unexpected {written - expected}"
     for name in sorted(expected):
         path = out / name
         assert path.stat().st_size > 0
+        if name.endswith(".legibility.json"):
+            continue  # style.savefig's record, read by tests/paper/test_figure_legibility.py
         assert f"wrote {path}" in proc, f"{name} not reported"
         (_assert_pdf if name.endswith(".pdf") else _assert_png)(path)
     assert not any(p.name.endswith(".tmp") for p in out.iterdir())
