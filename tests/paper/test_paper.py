@@ -6,10 +6,13 @@
 * The figures (``make_figures.py --quick``) and the coursework's table (``table_coursework.py``) are rebuilt
   into a temporary copy of ``paper/`` through ``BUBBLEOPTICS_FIGURES_DIR``: every ``fig_*.py``
   must write its PDF and PNG.
-* With ``latexmk`` on the PATH that copy is built with ``latexmk -pdf``: the PDF must exist,
-  have more than three pages, resolve every citation and reference, have no overfull box, and (where ``pdffonts`` is
-  installed) embed no Type 3 bitmap font.  Without LaTeX this test
-  is skipped (the Debian packages are named in ``paper/Makefile``).
+* With ``latexmk`` on the PATH that copy is built as ``paper/Makefile`` builds it, both PDFs twice
+  (the main paper and its supplement read each other's labels through xr-hyper): each PDF must
+  exist, resolve every citation and reference, have no overfull box, and (where ``pdffonts`` is
+  installed) embed no Type 3 bitmap font; the main paper has at most ``MAX_PAGES`` pages.  Without
+  LaTeX these tests are skipped (the Debian packages are named in ``paper/Makefile``).
+* The abstract, parsed from ``paper.tex``, has at most ``MAX_ABSTRACT_WORDS`` words and quotes no
+  ratio to the coursework's run times.
 
 Nothing is written into the repository.
 """
@@ -33,6 +36,12 @@ PAPER = ROOT / "paper"
 SCRIPTS = PAPER / "scripts"
 MAKE_NUMBERS = SCRIPTS / "make_numbers.py"
 DERIVED = ROOT / "data" / "derived"
+
+#: The main paper's page limit and the abstract's word limit (issue 23).
+MAX_PAGES = 12
+MAX_ABSTRACT_WORDS = 250
+#: The two documents, in the order paper/Makefile builds them.
+DOCUMENTS = ("supplement", "paper")
 
 #: Control words of paper.tex that start with a capital and are not numbers.tex macros: LaTeX's
 #: own (section sign, Greek capitals, ...) and the paper's (\\R, \\T for reflectance, transmittance).
@@ -187,24 +196,12 @@ def test_missing_inputs_give_na_and_a_warning_not_a_crash(tmp_path):
     assert r"\providecommand{\NumberNA}" in out.read_text()
 
 
-def _pages(pdf, log):
-    if shutil.which("pdfinfo"):
-        info = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, timeout=30).stdout
-        m = re.search(r"^Pages:\s+(\d+)", info, flags=re.MULTILINE)
-        if m:
-            return int(m.group(1))
-    m = re.search(r"Output written on \S+ \((\d+) pages?", log)
-    if m:
-        return int(m.group(1))
-    return len(re.findall(rb"/Type\s*/Page\b", pdf.read_bytes()))
-
-
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
     """A copy of paper/ with its figures (quick mode), the coursework's table and numbers.tex, all
     written by the repository's scripts into a temporary folder (BUBBLEOPTICS_FIGURES_DIR)."""
     build = tmp_path_factory.mktemp("paper")
-    for name in ("paper.tex", "references.bib"):
+    for name in ("paper.tex", "supplement.tex", "preamble.tex", "references.bib"):
         shutil.copy(PAPER / name, build / name)
     shutil.copytree(PAPER / "sections", build / "sections")
     env = dict(os.environ, BUBBLEOPTICS_FIGURES_DIR=str(build / "figures"), MPLBACKEND="Agg")
@@ -229,21 +226,124 @@ def test_figures_and_table_build_in_quick_mode(built):
     assert table.count(r"\\") >= 13 and r"\toprule" in table and r"\bottomrule" in table
 
 
+def _pages(pdf, log):
+    if shutil.which("pdfinfo"):
+        info = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, timeout=30).stdout
+        m = re.search(r"^Pages:\s+(\d+)", info, flags=re.MULTILINE)
+        if m:
+            return int(m.group(1))
+    try:
+        import pypdf
+
+        return len(pypdf.PdfReader(str(pdf)).pages)
+    except ImportError:
+        pass
+    m = re.search(r"Output written on \S+ \((\d+) pages?", log)
+    if m:
+        return int(m.group(1))
+    return len(re.findall(rb"/Type\s*/Page\b", pdf.read_bytes()))
+
+
+@pytest.fixture(scope="module")
+def pdfs(built):
+    """{document: (pdf, log)} of both PDFs built as paper/Makefile builds them: each once, then each
+    again with -g once both .aux files exist (each document reads the other's labels)."""
+    for force in ([], ["-g"]):
+        for doc in DOCUMENTS:
+            latex = subprocess.run(["latexmk", "-pdf", "-interaction=nonstopmode", "-halt-on-error", *force,
+                                    f"{doc}.tex"], cwd=built, capture_output=True, text=True, timeout=300)
+            log = (built / f"{doc}.log").read_text(errors="replace") if (built / f"{doc}.log").exists() else ""
+            assert latex.returncode == 0, f"{doc}: " + latex.stdout[-3000:] + log[-3000:]
+    return {doc: (built / f"{doc}.pdf", (built / f"{doc}.log").read_text(errors="replace")) for doc in DOCUMENTS}
+
+
+def log_problems(log):
+    """The problems of a LaTeX log that the paper must not have: unresolved citations and
+    references, overfull boxes and labels or citations defined twice (e.g. by both documents)."""
+    problems = re.findall(r"Citation `[^']*' .*undefined", log)
+    problems += re.findall(r"Reference `[^']*' .*undefined", log)
+    problems += ["There were undefined references"] if "There were undefined references" in log else []
+    problems += re.findall(r"^Overfull \\[hv]box .*$", log, flags=re.MULTILINE)
+    problems += re.findall(r"(?:Label|Citation) `[^']*' multiply defined", log)
+    return problems
+
+
+def test_log_problems_are_found():
+    log = ("LaTeX Warning: Reference `sec:core' on page 3 undefined on input line 7.\n"
+           "Package natbib Warning: Citation `Huang2020' on page 2 undefined on input line 9.\n"
+           "Overfull \\hbox (3.1pt too wide) in paragraph at lines 5--6\n"
+           "Package natbib Warning: Citation `Blender' multiply defined.\n"
+           "LaTeX Warning: There were undefined references.\n")
+    assert len(log_problems(log)) == 5
+    assert log_problems("Output written on paper.pdf (12 pages, 1 bytes).\nUnderfull \\hbox (badness 10000)\n") == []
+
+
 @pytest.mark.skipif(shutil.which("latexmk") is None, reason="LaTeX not installed")
-def test_paper_pdf_builds(built):
-    latex = subprocess.run(["latexmk", "-pdf", "-interaction=nonstopmode", "-halt-on-error", "paper.tex"],
-                           cwd=built, capture_output=True, text=True, timeout=120)
-    log = (built / "paper.log").read_text(errors="replace") if (built / "paper.log").exists() else ""
-    assert latex.returncode == 0, latex.stdout[-3000:] + log[-3000:]
-    pdf = built / "paper.pdf"
-    assert pdf.exists()
-    assert _pages(pdf, log) > 3
-    assert not re.search(r"Citation `[^']*' .*undefined", log), "unresolved citation"
-    assert "There were undefined references" not in log
-    overfull = re.findall(r"^Overfull \\[hv]box .*$", log, flags=re.MULTILINE)
-    assert not overfull, f"overfull boxes: {overfull[:5]}"
+@pytest.mark.parametrize("doc", DOCUMENTS)
+def test_pdf_builds_clean(pdfs, doc):
+    """Both PDFs: built, every citation and cross-reference (within and between them) resolved, no
+    overfull box, no Type 3 font."""
+    pdf, log = pdfs[doc]
+    assert pdf.exists() and _pages(pdf, log) > 1
+    problems = log_problems(log)
+    assert not problems, f"{doc}.log: {problems[:5]}"
     if shutil.which("pdffonts"):  # poppler-utils: a Type 3 font is a bitmap (e.g. a TS1 glyph without cm-super)
         fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, timeout=60)
         assert fonts.returncode == 0, fonts.stderr
         type3 = [line for line in fonts.stdout.splitlines()[2:] if "Type 3" in line]
-        assert not type3, f"paper.pdf embeds Type 3 (bitmap) fonts: {type3}"
+        assert not type3, f"{doc}.pdf embeds Type 3 (bitmap) fonts: {type3}"
+
+
+@pytest.mark.skipif(shutil.which("latexmk") is None, reason="LaTeX not installed")
+def test_main_paper_fits_its_page_limit(pdfs):
+    pdf, log = pdfs["paper"]
+    pages = _pages(pdf, log)
+    assert 3 < pages <= MAX_PAGES, f"paper.pdf has {pages} pages, the limit is {MAX_PAGES}"
+
+
+@pytest.mark.skipif(shutil.which("latexmk") is None, reason="LaTeX not installed")
+def test_the_two_pdfs_refer_to_each_other(pdfs):
+    """The supplement's sections are numbered S1, S2, ... and the main paper cites them by those
+    numbers; the supplement refers back to the main paper's sections."""
+    _, paper_log = pdfs["paper"]
+    aux = (pdfs["paper"][0].with_suffix(".aux")).read_text(errors="replace")
+    supplement_aux = (pdfs["supplement"][0].with_suffix(".aux")).read_text(errors="replace")
+    assert re.search(r"\\newlabel\{sec:coursework\}\{\{S\d+\}", supplement_aux)
+    assert not re.search(r"\\newlabel\{sec:physics\}\{\{S", aux)
+    text = subprocess.run(["pdftotext", str(pdfs["paper"][0]), "-"], capture_output=True, text=True,
+                          timeout=60).stdout if shutil.which("pdftotext") else "Supplement \u00a7S1"
+    assert re.search(r"Supplement\s*(\u00a7|Fig\.)\s*S\d", text)
+
+
+def abstract_words(tex):
+    """The words of the abstract of *tex* (a paper.tex): comments dropped, each inline formula and
+    each macro (a number of numbers.tex) one word, braces and ties as spaces."""
+    m = re.search(r"\\begin\{abstract\}(.*?)\\end\{abstract\}", tex, flags=re.DOTALL)
+    if not m:
+        raise ValueError("paper.tex has no abstract environment")
+    body = re.sub(r"(?<!\\)%.*", "", m.group(1))
+    body = re.sub(r"\$[^$]*\$", " FORMULA ", body)
+    body = re.sub(r"\\[,;:!]", "", body)  # thin spaces glue a number to its unit
+    body = re.sub(r"\\(textsf|emph|textit|textbf|code)\{([^}]*)\}", r" \2 ", body)
+    body = re.sub(r"\\[A-Za-z]+(\{\})?", " MACRO ", body)
+    body = body.replace("~", " ").replace("{", " ").replace("}", " ")
+    return [w for w in body.split() if re.search(r"\w", w)]
+
+
+def test_abstract_word_counter():
+    tex = (r"\begin{abstract} A film, \NsOurs\,ns long; $\Delta E_{00}=1$ % a comment"
+           "\n Mitsuba~3 and \\textsf{tmm} -- done.\\end{abstract}")
+    assert abstract_words(tex) == ["A", "film,", "MACRO", "long;", "FORMULA", "Mitsuba", "3", "and", "tmm", "done."]
+    with pytest.raises(ValueError):
+        abstract_words("no abstract here")
+
+
+def test_abstract_is_short_and_quotes_no_coursework_ratio():
+    """At most MAX_ABSTRACT_WORDS words; the ratios to the coursework's times (another machine,
+    program and, for the thin-film chain, another tree) belong in the supplement, not the abstract."""
+    tex = (PAPER / "paper.tex").read_text(encoding="utf-8")
+    words = abstract_words(tex)
+    assert 100 < len(words) <= MAX_ABSTRACT_WORDS, f"abstract has {len(words)} words"
+    abstract = re.search(r"\\begin\{abstract\}(.*?)\\end\{abstract\}", tex, flags=re.DOTALL).group(1)
+    ratios = re.findall(r"\\(SpeedupDepth\w+|TwoSphereSpeedup\w+|OursDepth\w+|CourseworkDepth\w+)", abstract)
+    assert not ratios, f"the abstract quotes the coursework comparison: {ratios}"
