@@ -18,7 +18,7 @@ that each take one thing away, so that the difference says what that thing costs
 * ``depth 1``: only the camera rays' first hits.
 
 Each variant's render is paired with a run of the floor kernel just before it
-(:func:`throughput.floor_kernel`, the same size and thread count); the ratio of the two is
+(:func:`study.floor.floor_kernel`, the same size and thread count); the ratio of the two is
 robust to the machine's load.  Medians, minima and maxima over the repeats.
 """
 
@@ -31,10 +31,8 @@ from pathlib import Path
 import numba
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from throughput import floor_kernel  # noqa: E402  (the same floor as throughput.csv)
-
-from study.results import image_benchmark_arguments, provenance, write_csv  # noqa: E402
+from study.floor import floor_kernel  # the same floor as throughput.csv
+from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "builtin_split.csv"
