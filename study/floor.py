@@ -2,6 +2,8 @@
 
 import math
 
+import numpy as np
+
 from numba import njit, prange
 
 __all__ = ["floor_kernel"]
