@@ -18,20 +18,19 @@ that each take one thing away, so that the difference says what that thing costs
 * ``depth 1``: only the camera rays' first hits.
 
 Each variant's render is paired with a run of the floor kernel just before it
-(:func:`study.floor.floor_kernel`, the same size and thread count); the ratio of the two is
+(:func:`study.floor.paired_render`, the same size and thread count); the ratio of the two is
 robust to the machine's load.  Medians, minima and maxima over the repeats.
 """
 
 import dataclasses
 import os
 import sys
-import time
 from pathlib import Path
 
 import numba
 import numpy as np
 
-from study.floor import floor_kernel  # the same floor as throughput.csv
+from study.floor import paired_render, run_floor  # the same floor as throughput.csv
 from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,23 +66,16 @@ def main(argv=None):
     from bubbleoptics.resources import prefer_workqueue_threads
 
     prefer_workqueue_threads()
-    centers = np.array([[0.0, 0.0, -5.0], [1.5, 0.0, -6.0], [-1.5, 0.0, -6.0]])
-    radii = np.array([1.0, 0.7, 0.7])
     floor_out = np.zeros((size, size))
     todo = variants(tracer)
     numba.set_num_threads(1)
-    floor_kernel(size, size, centers, radii, 0.5, floor_out)
+    run_floor(size, floor_out)
     for _, scene, depth in todo:  # compile or load every kernel before timing
         tracer.render(scene, width=8, height=8, depth=depth, progress=False)
     samples = {name: [] for name, _, _ in todo}
     for rep in range(repeats):
         for name, scene, depth in todo:
-            t0 = time.perf_counter()
-            floor_kernel(size, size, centers, radii, 0.5, floor_out)
-            t_floor = time.perf_counter() - t0
-            t0 = time.perf_counter()
-            _, stats = tracer.render_with_stats(scene, width=size, height=size, depth=depth, progress=False)
-            samples[name].append((time.perf_counter() - t0, t_floor, stats.rays["total"]))
+            samples[name].append(paired_render(tracer, scene, size, depth, floor_out))
         print(f"repeat {rep + 1}/{repeats} done", file=sys.stderr)
     base = np.median([s[0] for s in samples["built-in"]])
     rows = []

@@ -3,7 +3,7 @@
 Run:  python benchmarks/throughput.py [--repeats N] [--quick]
 Writes ``data/derived/throughput.csv``.
 
-The floor (:func:`floor_kernel`) is the least a ray tracer can do per pixel: one camera ray
+The floor (:func:`study.floor.floor_kernel`) is the least a ray tracer can do per pixel: one camera ray
 against three spheres (textbook quadratic), the nearest hit, one mirror bounce against the
 same spheres, a constant environment; parallel over rows like the tracer.  Each case is a
 full ``tracer.render_with_stats`` call (packing the scene, the first call's measurement,
@@ -41,7 +41,7 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from study.floor import floor_kernel
+from study.floor import paired_render, run_floor
 from study.results import image_benchmark_arguments, provenance, write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -80,12 +80,10 @@ def child(name, size, repeats, gate, copies):
     *repeats* runs as JSON."""
     numba.set_num_threads(1)
     if name == "floor":
-        centers = np.array([[0.0, 0.0, -5.0], [1.5, 0.0, -6.0], [-1.5, 0.0, -6.0]])
-        radii = np.array([1.0, 0.7, 0.7])
         out = np.zeros((size, size))
 
         def run():
-            floor_kernel(size, size, centers, radii, 0.5, out)
+            run_floor(size, out)
     elif name == "probe":
         out = np.zeros(64)
 
@@ -150,10 +148,8 @@ def main(argv=None):
 
     import tracer
 
-    centers = np.array([[0.0, 0.0, -5.0], [1.5, 0.0, -6.0], [-1.5, 0.0, -6.0]])
-    radii = np.array([1.0, 0.7, 0.7])
     floor_out = np.zeros((size, size))
-    floor_kernel(size, size, centers, radii, 0.5, floor_out)
+    run_floor(size, floor_out)
     todo = cases(tracer)
     for _, scene, depth in todo:  # compile or load every kernel before timing
         tracer.render(scene, width=8, height=8, depth=depth, progress=False)
@@ -164,13 +160,8 @@ def main(argv=None):
         for threads in thread_counts:
             numba.set_num_threads(threads)
             for name, scene, depth in todo:
-                t0 = time.perf_counter()
-                floor_kernel(size, size, centers, radii, 0.5, floor_out)
-                t_floor = time.perf_counter() - t0
-                t0 = time.perf_counter()
-                _, stats = tracer.render_with_stats(scene, width=size, height=size, depth=depth, progress=False)
-                t_case = time.perf_counter() - t0
-                samples.setdefault((name, depth, threads), []).append((t_case, t_floor, stats.rays["total"]))
+                samples.setdefault((name, depth, threads), []).append(
+                    paired_render(tracer, scene, size, depth, floor_out))
         print(f"repeat {rep + 1}/{repeats} done", file=sys.stderr)
     numba.set_num_threads(max_threads)
 
@@ -200,7 +191,7 @@ def main(argv=None):
     # the floor and a vector-arithmetic probe on their own, 1 and 2 threads
     probe_out = np.zeros(64)
     simd_probe_kernel(10, probe_out)
-    probes = {"floor kernel": lambda: floor_kernel(size, size, centers, radii, 0.5, floor_out),
+    probes = {"floor kernel": lambda: run_floor(size, floor_out),
               "probe: vector arithmetic": lambda: simd_probe_kernel(20000 if args.quick else 200000, probe_out)}
     probe_times = {}
     for rep in range(repeats):

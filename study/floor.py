@@ -1,12 +1,13 @@
 """The floor kernel the tracer's benchmarks compare against (benchmarks/throughput.py, builtin_split.py)."""
 
 import math
+import time
 
 import numpy as np
 
 from numba import njit, prange
 
-__all__ = ["floor_kernel"]
+__all__ = ["floor_kernel", "run_floor", "paired_render", "CENTERS", "RADII", "BACKGROUND"]
 
 
 @njit(parallel=True, cache=True)
@@ -54,3 +55,26 @@ def floor_kernel(width, height, centers, radii, background, out):
                 ox, oy, oz = px, py, pz
                 weight *= 0.5
             out[y, x] = value
+
+
+#: The floor's scene: three spheres (centres, radii) before a constant environment.
+CENTERS = np.array([[0.0, 0.0, -5.0], [1.5, 0.0, -6.0], [-1.5, 0.0, -6.0]])
+RADII = np.array([1.0, 0.7, 0.7])
+BACKGROUND = 0.5
+
+
+def run_floor(size, out):
+    """The floor at *size* x *size* into *out* (float64, (size, size))."""
+    floor_kernel(size, size, CENTERS, RADII, BACKGROUND, out)
+
+
+def paired_render(tracer, scene, size, depth, out):
+    """The floor (into *out*), then *scene* rendered at *size* x *size* and trace depth *depth*
+    (None: the scene's default): ``(render seconds, floor seconds, total rays)``, so that each
+    render is read against the floor run just before it."""
+    t0 = time.perf_counter()
+    run_floor(size, out)
+    t_floor = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    _, stats = tracer.render_with_stats(scene, width=size, height=size, depth=depth, progress=False)
+    return time.perf_counter() - t0, t_floor, stats.rays["total"]
