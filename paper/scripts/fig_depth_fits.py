@@ -1,10 +1,12 @@
 """Figure: growth laws fitted to the coursework's table 4.1, and their relative residuals.
 
+The trace depth is written ℓ (the paper's d is the film thickness).
+
 Run:  python paper/scripts/fig_depth_fits.py [--quick]
 Reads ``data/coursework_table_4_1.csv``; writes ``fig_depth_fits.pdf``/``.png``.
 
-Top: the coursework's times (circles) with the affine exponential a + c·b^d (solid), the pure
-exponential a·b^d (dotted) and a fourth-degree polynomial (dashed: the coursework's law, refitted
+Top: the coursework's times (circles) with the affine exponential a + c·b^ℓ (solid), the pure
+exponential a·b^ℓ (dotted) and a fourth-degree polynomial (dashed: the coursework's law, refitted
 here with the same relative weights as the other two, not the coursework's own curve, which
 it fitted to the times by absolute residuals), one colour per scene.  Bottom: relative residuals
 (t − t̂)/t of each law, one panel per law, titled with its number of parameters; crosses: the error (t̂ − t)/t at depths 8-10 of the same law fitted only
@@ -26,8 +28,8 @@ from study.fits import branching_interval
 
 SCENES = {1: "one bubble", 2: "two bubbles", 3: "three bubbles"}
 LAWS = {  # model name of study's fits -> panel title, line style, fitter
-    "affine exponential": ("$a + c\\,b^d$ (3)", "-", study.fit_affine_exponential),
-    "exponential": ("$a\\,b^d$ (2)", ":", study.fit_exponential),
+    "affine exponential": ("$a + c\\,b^\\ell$ (3)", "-", study.fit_affine_exponential),
+    "exponential": ("$a\\,b^\\ell$ (2)", ":", study.fit_exponential),
     "polynomial, degree 4": ("quartic, refitted (5)", "--",
                              lambda d, t, relative: study.fit_polynomial(d, t, 4, relative=relative)),
 }
@@ -63,7 +65,7 @@ def main(argv=None):
 
     ax = axes["fit"]
     ax.set_yscale("log")
-    ax.set_xlabel("trace depth $d$")
+    ax.set_xlabel("trace depth $\\ell$")
     ax.set_ylabel("coursework's render time $t$ (s)")
     ax.set_xticks(range(1, 11))
     ax.set_xlim(0.7, 10.3)
@@ -82,12 +84,12 @@ def main(argv=None):
         a.set_ylim(-limit, limit)
         a.set_xticks([1, 5, 10])
         a.set_xlim(0.5, 10.5)
-        a.set_xlabel("$d$")
+        a.set_xlabel("$\\ell$")
         if i:
             a.tick_params(labelleft=False)
         else:
             a.set_ylabel("$(t - \\hat t)/t$ (%)")
-            a.text(0.97, 0.05, f"$\\times$ fitted to $d \\leq {TRAIN_DEPTH}$", transform=a.transAxes, ha="right",
+            a.text(0.97, 0.05, f"$\\times$ fitted to $\\ell \\leq {TRAIN_DEPTH}$", transform=a.transAxes, ha="right",
                    va="bottom", fontsize=7)
     for path in style.savefig(fig, "fig_depth_fits"):
         print(f"wrote {path}")

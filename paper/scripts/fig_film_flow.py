@@ -9,12 +9,12 @@ Reads ``data/derived/film_flow_validation.csv`` and ``.npz``, ``film_flow_dt.csv
 (b) Convergence under grid refinement: the largest errors of the four checks against the number
     of rows, with slopes 1 and 2 for reference.
 (c) Plug flow with the cited defaults: the apex, the thinnest and the thickest cell against time,
-    the black-film threshold, and the two estimates h0/E and h_eq(0)/E.
+    the black-film threshold, and the two estimates h0/q_e and h_eq(0)/q_e.
 (d) The rendered frames stored by the benchmark (8-bit sRGB), at the film times printed above them.
 (e) The time-step study (``film_flow_dt.csv``): the apex's black-film time against the step on two
-    grids, Richardson's estimate and h_eq(0)/E.
+    grids, Richardson's estimate and h_eq(0)/q_e.
 (f) The evaporation study (``film_flow_evaporation.csv``): the apex's black-film time against the
-    evaporation rate, with h_eq(0)/E and h0/E.
+    evaporation rate, with h_eq(0)/q_e and h0/q_e.
 Quick mode draws the same figure (it only reads stored data).
 """
 
@@ -83,9 +83,9 @@ def main(argv=None):
     ax_c.plot(tb, data["black_min_nm"], linewidth=0.8, label="thinnest cell")
     black_nm = value[("black", "threshold")]
     ax_c.axhline(black_nm, color="k", linewidth=0.6, linestyle=":")
-    ax_c.axvline(value[("black", "t_uniform")], color="0.4", linewidth=0.7, linestyle="-.", label="$h_0/E$")
+    ax_c.axvline(value[("black", "t_uniform")], color="0.4", linewidth=0.7, linestyle="-.", label="$h_0/q_e$")
     ax_c.axvline(value[("black", "t_equilibrium_apex")], color="0.4", linewidth=0.7, linestyle="--",
-                 label=r"$h_{eq}(0)/E$")
+                 label=r"$h_{eq}(0)/q_e$")
     ax_c.set_xlabel("film time (s)")
     ax_c.set_ylabel("thickness (nm)")
     ax_c.set_xlim(0, tb[-1])
@@ -126,13 +126,13 @@ def dt_panel(ax):
                     label=f"Richardson, {nt}" + r"$\times$" + f"{nph}")
     _, evap = read_commented_csv(EVAPORATION_CSV)
     t_eq = float(next(r["t_eq_apex_s"] for r in evap if float(r["evaporation_multiple"]) == 1.0))
-    ax.axhline(t_eq, color="0.4", linewidth=0.7, linestyle="--", label=r"$h_{eq}(0)/E$")
+    ax.axhline(t_eq, color="0.4", linewidth=0.7, linestyle="--", label=r"$h_{eq}(0)/q_e$")
     ax.axvline(10.0, color="0.75", linewidth=0.6, linestyle=":", zorder=0)
     ax.text(10.0 * 1.08, t_eq + 0.15, "panel (c)'s step", color="0.4", ha="left", va="bottom")
     ax.set_xlabel(r"time step $\Delta t$ (ms)")
     ax.set_ylabel("apex black-film time (s)")
     ax.legend(loc="upper left")
-    ax.set_title(r"(e) time-step study, cited $E$", loc="left")
+    ax.set_title(r"(e) time-step study, cited $q_e$", loc="left")
 
 
 def evaporation_panel(ax):
@@ -143,8 +143,8 @@ def evaporation_panel(ax):
     e_line = np.geomspace(e_all[0] / 1.3, e_all[-1] * 1.3, 50)
     heq = float(rows[0]["h_eq_apex_nm"]) * 1e-9
     h0 = float(rows[0]["t_uniform_s"]) * float(rows[0]["evaporation_m_per_s"])
-    ax.loglog(e_line, h0 / e_line, color="0.6", linewidth=0.7, linestyle="-.", label="$h_0/E$")
-    ax.loglog(e_line, heq / e_line, color="0.3", linewidth=0.7, linestyle="--", label=r"$h_{eq}(0)/E$")
+    ax.loglog(e_line, h0 / e_line, color="0.6", linewidth=0.7, linestyle="-.", label="$h_0/q_e$")
+    ax.loglog(e_line, heq / e_line, color="0.3", linewidth=0.7, linestyle="--", label=r"$h_{eq}(0)/q_e$")
     runs = sorted({(r["grid"], float(r["dt_s"])) for r in rows}, key=lambda k: int(k[0].split("x")[0]))
     inset = ax.inset_axes([0.17, 0.1, 0.34, 0.32])
     for (grid, dt), marker in zip(runs, "os^D"):
@@ -163,9 +163,9 @@ def evaporation_panel(ax):
     inset.set_yticks([1.0, 1.04, 1.08])
     inset.minorticks_off()
     inset.set_xticks([])
-    inset.set_title(r"ratio $t\,E/h_{eq}(0)$", fontsize=7, pad=2)
+    inset.set_title(r"ratio $t\,q_e/h_{eq}(0)$", fontsize=7, pad=2)
     inset.tick_params(labelsize=7)
-    ax.set_xlabel(r"evaporation rate $E$ (m s$^{-1}$)")
+    ax.set_xlabel(r"evaporation rate $q_e$ (m s$^{-1}$)")
     ax.set_ylabel("apex black-film time (s)")
     ax.legend(loc="upper right")
     ax.set_title("(f) black film against evaporation", loc="left")
