@@ -31,9 +31,6 @@ SCRIPTS = PAPER / "scripts"
 FIGURE_SCRIPTS = sorted(SCRIPTS.glob("fig_*.py"))
 SLOT_TOLERANCE = 0.03  # a figure may be this much narrower or wider than its slot (LaTeX scales it)
 BP_PER_INCH = 72.0
-#: Figures whose script was removed while a .tex file may still place them (the paper is edited
-#: by others): fig_core_speed repeated the core table (tab:core).  Empty this once no .tex has them.
-DROPPED = {"fig_core_speed"}
 
 
 def slots(tex):
@@ -138,8 +135,6 @@ def test_every_figure_is_drawn_at_the_width_of_its_slot(quick_figures):
     less than SLOT_TOLERANCE and its type prints at the size the script set."""
     out, _ = quick_figures
     placed = slots(paper_helpers.source())
-    assert not DROPPED & {p.stem for p in FIGURE_SCRIPTS}, "a dropped figure has its script again"
-    placed = {name: slot for name, slot in placed.items() if name not in DROPPED}
     assert sorted(placed) == sorted(p.stem for p in FIGURE_SCRIPTS), "figures placed vs figure scripts"
     for name, slot in placed.items():
         width, height = media_box(out / f"{name}.pdf")
