@@ -45,10 +45,19 @@ pinhole camera (vertical field of view 40 degrees), 256x256, box pixel filter in
    Seeds differ between rounds; the error is that of the first round.  Errors: RMSE over
    pixels and channels (linear RGB) and mean CIEDE2000 (:func:`study.delta_e00_images`)
    against each reference.
-5. **Time to equal error.**  log(time) interpolated linearly in log(error) along each curve.
+5. **Time to equal error.**  log(time) interpolated linearly in log(error) along each curve, at
+   each error target, between the curves of the same thread count.
 
-Both renderers use every core (numba's thread pool; Dr.Jit's and Mitsuba's thread pools), one
-after the other in the same process.  Mitsuba's kernels are cached by Dr.Jit in ``~/.drjit``.
+**Threads.**  Every sweep runs at each count of ``--threads`` (default 1 and 2), both renderers
+alike: :func:`with_threads` sets numba's count (our render threads) and Dr.Jit's thread pool
+(Mitsuba's LLVM kernels and its scalar variant's blocks) before each timed run.  The scalar
+variant stops at 256 spp on one thread.  The checks and references use every core.
+
+**Variant.**  The LLVM variant is ``llvm_ad_rgb``: the wheels on PyPI ship only the ``_ad_``
+variants of the LLVM and CUDA back ends (the list of mitsuba-renderer/mitsuba3 pull request
+#1355); a plain ``llvm_rgb`` needs a build from source.  No parameter here has gradients
+enabled, so Dr.Jit's AD layer records nothing; the kernels are the forward ones.  Renderers run
+one after the other in the same process.  Mitsuba's kernels are cached by Dr.Jit in ``~/.drjit``.
 """
 
 from __future__ import annotations
@@ -83,6 +92,7 @@ OURS_SPP = (1, 4, 16, 64)
 OURS_REFERENCE_SPP = 256
 MITSUBA_SPP = (1, 4, 16, 64, 256, 1024, 4096)
 SCALAR_MAX_SPP = 1024  # the scalar variant is 5-10x slower; its curve is clear by then
+SCALAR_MAX_SPP_ONE_THREAD = 256  # on one thread, the scalar variant's slowest points would take minutes each
 REFERENCE_PASS_SPP = 256
 SEED_SWEEP = 1  # first seed of the sweeps (repeats use the next ones)
 SEED_OURS_REFERENCE = 9001
@@ -351,6 +361,21 @@ def mitsuba_reference(mi, scene, spp_total, seconds_budget):
     return np.mean(images[:n], axis=0), n * REFERENCE_PASS_SPP, seconds, noise
 
 
+def with_threads(n, render, *args):
+    """``render(*args)`` with *n* threads in both renderers: numba's (our tracer's render threads,
+    :func:`tracer.rendering.local.render_threads`) and Dr.Jit's pool (Mitsuba's LLVM kernels and its
+    scalar variant's blocks), set before the call, outside its timing."""
+    import numba
+
+    import drjit as dr
+
+    if numba.get_num_threads() != n:
+        numba.set_num_threads(n)
+    if dr.thread_count() != n:
+        dr.set_thread_count(n)
+    return render(*args)
+
+
 def threads_note():
     import numba
 
@@ -394,11 +419,20 @@ def main(argv=None):
     parser.add_argument("--reference-spp", type=int, default=32768)
     parser.add_argument("--reference-seconds", type=float, default=150.0,
                         help="stop the Mitsuba reference after this many seconds (an even number of passes)")
+    parser.add_argument("--threads", default="1,2",
+                        help="comma-separated thread counts; each sweep runs at each, both renderers alike "
+                             "(numba.set_num_threads and drjit.set_thread_count before each timed run)")
     args = parser.parse_args(argv)
+    try:
+        thread_counts = sorted({int(t) for t in args.threads.split(",") if t.strip()})
+    except ValueError:
+        parser.error(f"--threads: comma-separated positive integers, got {args.threads!r}")
+    if not thread_counts or min(thread_counts) < 1 or max(thread_counts) > (os.cpu_count() or 1):
+        parser.error(f"--threads: each count in 1..{os.cpu_count()} (this machine's cores), got {args.threads!r}")
 
     _choose_libllvm()
     try:
-        import drjit as dr  # noqa: F401
+        import drjit as dr
         import mitsuba as mi
     except ImportError:
         print(INSTALL_HINT)
@@ -431,7 +465,11 @@ def main(argv=None):
         return 1
     ref_variant = variants[0]
     mi.set_variant(ref_variant)
-    note = threads_note() if llvm_ok else ""
+    max_threads = max(thread_counts)
+    numba.set_num_threads(max_threads)  # the checks and references; each sweep run sets its own
+    dr.set_thread_count(max_threads)
+    note = (threads_note() + "; sweeps at " + " and ".join(map(str, thread_counts))
+            + " threads in both renderers (column threads)") if llvm_ok else ""
     print(f"mitsuba {mi.__version__}; variants {variants}; {provenance('benchmarks/peer_mitsuba.py', note)}",
           flush=True)
 
@@ -462,12 +500,15 @@ def main(argv=None):
 
     # 3. sweeps: every configuration warmed up, then timed in rounds (renderers alternating) until
     # each has `repeats` runs during which other processes left the CPUs alone
-    configs = []  # (renderer, variant, sampler, threshold, spp, render(seed) -> (image, seconds, rays))
+    # (renderer, variant, sampler, threshold, spp, threads, render(seed) -> (image, seconds, rays))
+    configs = []
     ours_configs = []
-    for variant, threshold in (("exhaustive", 0.0), ("pruned", tracer.DEFAULTS["threshold"])):
-        for spp in ours_spp:
-            ours_configs.append(("ours", variant, "stratified", threshold, spp,
-                                 lambda seed, spp=spp, th=threshold: render_ours(glass_ours, spp, seed, size, th)))
+    for threads in thread_counts:
+        for variant, threshold in (("exhaustive", 0.0), ("pruned", tracer.DEFAULTS["threshold"])):
+            for spp in ours_spp:
+                ours_configs.append(("ours", variant, "stratified", threshold, spp, threads,
+                                     lambda seed, spp=spp, th=threshold, n=threads:
+                                     with_threads(n, render_ours, glass_ours, spp, seed, size, th)))
     mitsuba_configs = []
     for variant, sampler in (("llvm_ad_rgb", "stratified"), ("llvm_ad_rgb", "independent"),
                              ("scalar_rgb", "stratified")):
@@ -476,15 +517,17 @@ def main(argv=None):
         mi.set_variant(variant)
         scene_v = mitsuba_scene(mi, "glass", mitsuba_environment(mi, image, folder), size=size, sampler=sampler)
 
-        def run(seed, spp, scene_v=scene_v, variant=variant):
+        def run(seed, spp, threads, scene_v=scene_v, variant=variant):
             mi.set_variant(variant)  # outside the timed call; a no-op when already set
-            return render_mitsuba(mi, scene_v, spp, seed)
+            return with_threads(threads, render_mitsuba, mi, scene_v, spp, seed)
 
-        for spp in mitsuba_spp:
-            if variant == "scalar_rgb" and spp > (64 if quick else SCALAR_MAX_SPP):
-                continue
-            mitsuba_configs.append(("mitsuba", variant, sampler, "", spp,
-                                    lambda seed, spp=spp, run=run: run(seed, spp)))
+        for threads in thread_counts:
+            for spp in mitsuba_spp:
+                cap = 64 if quick else (SCALAR_MAX_SPP if threads > 1 else SCALAR_MAX_SPP_ONE_THREAD)
+                if variant == "scalar_rgb" and spp > cap:
+                    continue
+                mitsuba_configs.append(("mitsuba", variant, sampler, "", spp, threads,
+                                        lambda seed, spp=spp, run=run, n=threads: run(seed, spp, n)))
     for k in range(max(len(ours_configs), len(mitsuba_configs))):  # alternate the two renderers
         configs += ours_configs[k : k + 1] + mitsuba_configs[k : k + 1]
 
@@ -521,9 +564,10 @@ def main(argv=None):
 
     rows = []
 
-    def add(renderer, variant, sampler, threshold, spp, image_, rays, runs_, role="sweep"):
+    def add(renderer, variant, sampler, threshold, spp, threads, image_, rays, runs_, role="sweep"):
         clean = [t for t, sh in runs_ if sh <= QUIET_SHARE] or [t for t, _ in runs_]
-        row = dict(renderer=renderer, variant=variant, sampler=sampler, threshold=threshold, spp=spp, role=role,
+        row = dict(renderer=renderer, variant=variant, sampler=sampler, threshold=threshold, spp=spp,
+                   threads=threads, role=role,
                    width=size, height=size, depth=DEPTH, seconds=float(np.median(clean)),
                    seconds_min=float(min(clean)), clean_runs=sum(sh <= QUIET_SHARE for _, sh in runs_),
                    seconds_runs=" ".join(f"{t:.4f}" for t, _ in runs_),
@@ -534,28 +578,28 @@ def main(argv=None):
         row["rmse"] = row[f"rmse_vs_{HEADLINE_REFERENCE}"]
         row["mean_de00"] = row[f"de00_vs_{HEADLINE_REFERENCE}"]
         rows.append(row)
-        print(f"  {renderer:7s} {variant:11s} {sampler:11s} {spp:5d} spp {row['seconds']:9.4f} s (min"
+        print(f"  {renderer:7s} {variant:11s} {sampler:11s} {spp:5d} spp {threads} thr {row['seconds']:9.4f} s (min"
               f" {row['seconds_min']:8.4f})  RMSE {row['rmse']:.3e}  dE00 {row['mean_de00']:.3f}  (RMSE vs ours-ref"
               f" {row['rmse_vs_ours']:.3e}, vs mean {row['rmse_vs_mean']:.3e})", flush=True)
 
     print(f"\n{size}x{size}, depth {DEPTH}, median of the clean runs; errors against the {HEADLINE_REFERENCE} "
           "reference:")
-    for k, (renderer, variant, sampler, threshold, spp, _) in sorted(
-            enumerate(configs), key=lambda kc: (kc[1][0] != "ours", kc[1][1], kc[1][2], kc[1][4])):
-        add(renderer, variant, sampler, threshold, spp, first[k][0], first[k][1], runs[k])
-    add("ours", "exhaustive", "stratified", 0.0, OURS_REFERENCE_SPP, ref_ours, ref_ours_rays,
+    for k, (renderer, variant, sampler, threshold, spp, threads, _) in sorted(
+            enumerate(configs), key=lambda kc: (kc[1][0] != "ours", kc[1][5], kc[1][1], kc[1][2], kc[1][4])):
+        add(renderer, variant, sampler, threshold, spp, threads, first[k][0], first[k][1], runs[k])
+    add("ours", "exhaustive", "stratified", 0.0, OURS_REFERENCE_SPP, max_threads, ref_ours, ref_ours_rays,
         [(ref_ours_seconds, float("nan"))], role="reference")
-    add("mitsuba", ref_variant, "stratified", "", ref_mi_spp, ref_mi, None, [(ref_mi_seconds, float("nan"))],
-        role="reference")
+    add("mitsuba", ref_variant, "stratified", "", ref_mi_spp, max_threads, ref_mi, None,
+        [(ref_mi_seconds, float("nan"))], role="reference")
 
     # 4. time to equal error
     summary = time_to_error_table([r for r in rows if r["role"] == "sweep"])
     print("\ntime to reach the same error (log-log interpolation; n/a: outside a curve's measured range):")
-    for metric, label, target, ours_variant, t_ours, variant, sampler, t_mi in summary:
+    for metric, label, target, threads, ours_variant, t_ours, variant, sampler, t_mi in summary:
         if not (math.isfinite(t_ours) and math.isfinite(t_mi)):
             continue
-        print(f"  {metric:9s} {label:14s} {target:9.4g}: ours {ours_variant:10s} {t_ours:8.4f} s | mitsuba "
-              f"{variant:11s} {sampler:11s} {t_mi:8.4f} s | mitsuba / ours {t_mi / t_ours:6.2f}")
+        print(f"  {metric:9s} {label:14s} {target:9.4g} {threads} thr: ours {ours_variant:10s} {t_ours:8.4f} s | "
+              f"mitsuba {variant:11s} {sampler:11s} {t_mi:8.4f} s | mitsuba / ours {t_mi / t_ours:6.2f}")
 
     # 5. the CSV
     ref_note = (f"reference for rmse and mean_de00: Mitsuba {ref_variant} {ref_mi_spp} spp (stratified, passes of "
@@ -563,11 +607,11 @@ def main(argv=None):
                 f"halves); *_vs_ours: against ours at {OURS_REFERENCE_SPP} spp (exhaustive); *_vs_mean: against the "
                 f"mean of the two; between the two references RMSE {floor_rmse:.4e}, mean dE00 {floor_de:.4f}")
     checks = "; ".join(f"{o}/{k} RMSE {v[0]:.3e} dE00 {v[1]:.3f}" for (o, k), v in check.items())
-    columns = ["renderer", "variant", "sampler", "threshold", "spp", "role", "width", "height", "depth", "seconds",
+    columns = ["renderer", "variant", "sampler", "threshold", "spp", "threads", "role", "width", "height", "depth", "seconds",
                "seconds_min", "clean_runs", "seconds_runs", "other_cpu_share", "rays", "rmse", "mean_de00"]
     columns += [f"{k}_vs_{n}" for n in references for k in ("rmse", "de00")]
-    ttl = "; ".join(f"{m} {lab} {target:.4g}: ours {ov} {a:.4g} s, {v} {smp} {b:.4g} s, ratio {b / a:.3g}"
-                    for m, lab, target, ov, a, v, smp, b in summary if math.isfinite(a) and math.isfinite(b))
+    ttl = "; ".join(f"{m} {lab} {target:.4g} {n} thr: ours {ov} {a:.4g} s, {v} {smp} {b:.4g} s, ratio {b / a:.3g}"
+                    for m, lab, target, n, ov, a, v, smp, b in summary if math.isfinite(a) and math.isfinite(b))
     comments = [
         provenance(f"benchmarks/peer_mitsuba.py{' --quick' if quick else ''}", *([note] if note else []),
                    f"mitsuba {mi.__version__}"),
@@ -589,25 +633,28 @@ def main(argv=None):
 
 
 def time_to_error_table(sweep):
-    """Rows (metric, target label, target, ours variant, ours seconds, Mitsuba variant, sampler,
-    Mitsuba seconds) for the error ours reaches at 4 spp and at common targets."""
+    """Rows (metric, target label, target, threads, ours variant, ours seconds, Mitsuba variant,
+    sampler, Mitsuba seconds) for the error ours reaches at 4 spp and at common targets; each
+    pair of curves at the same thread count."""
     curves = {}
     for r in sweep:
-        curves.setdefault((r["renderer"], r["variant"], r["sampler"]), []).append(r)
+        curves.setdefault((r["renderer"], r["variant"], r["sampler"], r["threads"]), []).append(r)
     out = []
     for metric, common in (("rmse", (0.003, 0.002, 0.001)), ("mean_de00", (0.1, 0.05))):
-        exhaustive = curves[("ours", "exhaustive", "stratified")]
-        ours_4 = next(r[metric] for r in exhaustive if r["spp"] == 4)
-        for label, target in [("ours 4 spp", ours_4)] + [("common", v) for v in common]:
-            for (renderer, ours_variant, _), ours_curve in curves.items():
-                if renderer != "ours":
-                    continue
-                t_ours = time_at_error([r["seconds"] for r in ours_curve], [r[metric] for r in ours_curve], target)
-                for (renderer2, variant, sampler), curve in curves.items():
-                    if renderer2 == "ours":
+        for threads in sorted({key[3] for key in curves}):
+            exhaustive = curves[("ours", "exhaustive", "stratified", threads)]
+            ours_4 = next(r[metric] for r in exhaustive if r["spp"] == 4)
+            for label, target in [("ours 4 spp", ours_4)] + [("common", v) for v in common]:
+                for (renderer, ours_variant, _, n), ours_curve in curves.items():
+                    if renderer != "ours" or n != threads:
                         continue
-                    t_mi = time_at_error([r["seconds"] for r in curve], [r[metric] for r in curve], target)
-                    out.append((metric, label, target, ours_variant, t_ours, variant, sampler, t_mi))
+                    t_ours = time_at_error([r["seconds"] for r in ours_curve], [r[metric] for r in ours_curve],
+                                           target)
+                    for (renderer2, variant, sampler, n2), curve in curves.items():
+                        if renderer2 == "ours" or n2 != threads:
+                            continue
+                        t_mi = time_at_error([r["seconds"] for r in curve], [r[metric] for r in curve], target)
+                        out.append((metric, label, target, threads, ours_variant, t_ours, variant, sampler, t_mi))
     return out
 
 

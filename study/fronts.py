@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-__all__ = ["pareto_front", "time_at_error"]
+__all__ = ["pareto_front", "time_at_error", "time_ratio_curve"]
 
 
 def pareto_front(times, errors):
@@ -74,3 +74,32 @@ def time_at_error(seconds, errors, target):
         if lo <= lt <= hi and e[k] != e[k + 1]:
             return float(math.exp(t[k] + (lt - e[k]) * (t[k + 1] - t[k]) / (e[k + 1] - e[k])))
     return float("nan")
+
+
+def time_ratio_curve(slow, fast, n=25):
+    """Time ratio of two curves at equal error, over the errors both reach.
+
+    *slow* and *fast* are (seconds, errors) pairs of sequences.  Returns (targets, ratios): *n*
+    error targets spaced evenly in log(error) over the range both curves measured (the overlap
+    of [min, max] of their errors), and at each the ratio ``time_at_error(slow) /
+    time_at_error(fast)`` (:func:`time_at_error`; NaN where a curve is not monotonic enough to
+    reach the target).  Empty arrays when the ranges do not overlap.
+
+    For the peer comparison's "time to equal error" at every target, not at one
+    (``paper/scripts/fig_peer.py``, ``numbers_peer.py``).
+
+    Example
+    -------
+    >>> targets, ratios = time_ratio_curve(([2.0, 8.0], [0.4, 0.1]), ([1.0, 4.0], [0.4, 0.1]), n=3)
+    >>> [round(float(x), 3) for x in targets], [round(float(r), 3) for r in ratios]
+    ([0.1, 0.2, 0.4], [2.0, 2.0, 2.0])
+    """
+    (ts, es), (tf, ef) = slow, fast
+    low = max(min(es), min(ef))
+    high = min(max(es), max(ef))
+    if not (low > 0 and high >= low):
+        return np.array([]), np.array([])
+    # a hair inside the overlap, so that rounding in exp(log(x)) never puts an end outside a curve
+    targets = np.exp(np.linspace(math.log(low) + 1e-12, math.log(high) - 1e-12, n))
+    ratios = np.array([time_at_error(ts, es, x) / time_at_error(tf, ef, x) for x in targets])
+    return targets, ratios

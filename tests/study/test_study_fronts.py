@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from study import pareto_front, time_at_error, tradeoffs
+from study.fronts import time_ratio_curve
 
 DERIVED = Path(__file__).resolve().parents[2] / "data" / "derived"
 DEFAULTS = dict(spectral=True, spectral_samples=16, spectral_method="auto", threshold=1e-3, spp=1, depth=10)
@@ -66,6 +67,22 @@ def test_time_at_error_power_law():
         assert time_at_error(t, e, target) == pytest.approx(target**-2, rel=1e-12)
     assert time_at_error(t[::-1], e[::-1], 0.25) == pytest.approx(16.0)  # order of the points does not matter
     assert math.isnan(time_at_error(t, e, 2.0)) and math.isnan(time_at_error(t, e, 0.01))
+
+
+@pytest.mark.analytic
+def test_time_ratio_curve_of_two_power_laws():
+    """Two Monte Carlo curves e = c t^-1/2: at equal error the time ratio is (c_slow / c_fast)^2 at
+    every target, and the targets span exactly the errors both curves reach."""
+    t = np.array([1.0, 4.0, 16.0, 64.0])
+    slow = (t, 3.0 * t**-0.5)  # errors 3 .. 0.375
+    fast = (t, 1.0 * t**-0.5)  # errors 1 .. 0.125
+    targets, ratios = time_ratio_curve(slow, fast, n=9)
+    assert targets.min() == pytest.approx(0.375) and targets.max() == pytest.approx(1.0)
+    assert np.all(np.diff(np.log(targets)) > 0)
+    np.testing.assert_allclose(ratios, 9.0, rtol=1e-9)
+    # curves whose errors never meet: nothing to compare
+    empty = time_ratio_curve((t, 100.0 * t**-0.5), fast)
+    assert empty[0].size == 0 and empty[1].size == 0
 
 
 # ------------------------------------------------------------------ the defaults' verdict
