@@ -1,8 +1,10 @@
-"""Figure: a measured foam film (Ziapkoff et al. 2026) against the exact optics and the thinning laws.
+"""Figure: a measured foam film (Ziapkoff et al. 2026) and a bubble's apex against the optics and the thinning laws.
 
 Run:  python paper/scripts/fig_measured.py [--quick]
 Reads ``data/measured/optifik_comparison.csv``, ``optifik_thinning.csv`` and ``optifik_figure.npz``
-(written by ``python -m study.measured``, provenance in ``data/measured/README.md``); writes
+(written by ``python -m study.measured``), ``oospectro_bubble_stated_thickness.csv`` and
+``oospectro_bubble_curves.csv`` (``python paper/scripts/numbers_measured.py``); provenance in
+``data/measured/README.md``; writes
 ``fig_measured.pdf``/``.png`` (page wide).
 
 (a) Four spectra of the TTAB film in absolute reflectance (smoothed) and the exact reflectance of a
@@ -10,7 +12,11 @@ Reads ``data/measured/optifik_comparison.csv``, ``optifik_thinning.csv`` and ``o
 (b) The thickness fitted by the exact optics against the authors' (fringe extrema, Scheludko), with
     ±5 % about equality.
 (c) The thickness against the acquisition index: the authors' and ours, and the fits of
-    h1 [1 + (t - t1)/τ]^(-1/(β-1)) to the authors' with β free and held at 3 and 5/2.
+    h1 [1 + (t - t1)/τ]^(-1/(ν-1)) to the authors' with the rate exponent ν free and held at 3
+    and 5/2 (ν, not the paper's β, which is the optical phase).
+(d) A bubble (the thicknesses stated in oospectro, TTAB at 10 cmc; the point taken as the apex)
+    against time (the file index read as ms) with the fits of dh/dt = -c h^3 - q_e (the apex of this project's rigid
+    drainage with evaporation) and of its two parts alone.
 Quick mode draws the same figure (it only reads stored data).
 """
 
@@ -32,7 +38,7 @@ def main(argv=None):
     data = np.load(MEASURED / "optifik_figure.npz")
 
     fig = style.figure(width=style.PAGE_WIDTH, height=2.5)
-    ax_a, ax_b, ax_c = fig.subplots(1, 3)
+    ax_a, ax_b, ax_c, ax_d = fig.subplots(1, 4)
 
     wl = data["wavelength_nm"]
     for k, index in enumerate(data["examples"]):
@@ -78,17 +84,34 @@ def main(argv=None):
                   label="authors")
     tt = np.linspace(t_st[0], t_st[-1], 300)
     free = next(r for r in laws if r["source"] == "stated" and r["law"] == "free")
-    for beta, style_, label in ((None, "k-", rf"$\beta$ = {float(free['beta']):.1f} (free)"),
-                                (3.0, "k:", r"$\beta$ = 3 (rigid drainage)"),
-                                (2.5, "k--", r"$\beta$ = 5/2 ($t^{-2/3}$)")):
+    for beta, style_, label in ((None, "k-", rf"$\nu$ = {float(free['beta']):.1f} (free)"),
+                                (3.0, "k:", r"$\nu$ = 3 (rigid)"),
+                                (2.5, "k--", r"$\nu$ = 5/2 ($t^{-2/3}$)")):
         fit = measured.fit_thinning_law(t_st, h_st, beta=beta, interval=False)
         ax_c.semilogy(tt, fit.h1_nm * (1 + (tt - t_st[0]) / fit.tau) ** (-fit.alpha), style_, linewidth=0.7,
                       label=label)
     ax_c.set_ylim(20, 6000)
-    ax_c.set_xlabel("acquisition index (unit not stated)")
+    ax_c.set_xlabel("acquisition index (no unit stated)")
     ax_c.set_ylabel("thickness (nm)")
     ax_c.legend(loc="upper right", fontsize=7)
     ax_c.set_title("(c) thinning", loc="left")
+
+    _, bub = read_commented_csv(MEASURED / "oospectro_bubble_stated_thickness.csv")
+    _, cur = read_commented_csv(MEASURED / "oospectro_bubble_curves.csv")
+    t_b = np.array([float(r["time_index"]) for r in bub]) / 1000
+    h_b = np.array([float(r["stated_nm"]) for r in bub])
+    tt = np.array([float(r["t_s"]) for r in cur])
+    ax_d.plot(t_b, h_b, "o", markersize=2, markerfacecolor="none", markeredgewidth=0.5, color="C0",
+              label="stated")
+    for law, style_, label in (("rigid drainage + evaporation", "k-", "rigid + $q_e$"),
+                               ("rigid drainage only", "k:", "rigid only"),
+                               ("evaporation only", "k--", "$q_e$ only")):
+        ax_d.plot(tt, [float(r[law]) for r in cur], style_, linewidth=0.7, label=label)
+    ax_d.set_ylim(0, 4500)
+    ax_d.set_xlabel("time (s; index as ms)")
+    ax_d.set_ylabel("thickness (nm)")
+    ax_d.legend(loc="upper right", fontsize=7)
+    ax_d.set_title("(d) a bubble", loc="left")
 
     for path in style.savefig(fig, "fig_measured"):
         print(f"wrote {path}")

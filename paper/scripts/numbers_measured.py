@@ -7,12 +7,23 @@
 * ``measuredthinning``: ``data/measured/optifik_thinning.csv``: the fitted thinning-rate exponent
   β (its profile interval in the CSV is resolved only to a 0.05 grid starting at 1.05, so not quoted), and the log-RMS of the laws with β = 3 and 5/2 against the free fit.
 
+* ``measuredbubble``: ``data/measured/oospectro_bubble_thinning.csv``: a bubble's apex thinning
+  (the thicknesses stated in the oospectro repository, ``oospectro_bubble_stated_thickness.csv``)
+  fitted by the apex equation of this project's rigid-drainage model with evaporation,
+  dh/dt = -c h^3 - q_e (c = ρg/(6μR)), and by its parts; written by this module run as a script
+  (``python paper/scripts/numbers_measured.py``, :func:`write_bubble_fits`, seconds), read back by
+  the plug-in and by ``fig_measured.py``.
+
 Bounds are rounded outward (``MeasAgreeMaxPct`` and ``MeasRmsMax`` up, ``MeasThinMinPct``/``MeasThinMaxPct``
 away from zero; :func:`macros.up_to`, :func:`macros.at_least`), so that "within X %", "at most X" and
 "X–Y % thinner" stay true.
 """
 
 from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -90,7 +101,194 @@ def thinning(dirs):
 THINNING_MACROS = [f"{m}{k}" for k in ("Stated", "Fitted")
                    for m in ("MeasBeta", "MeasRmsLog", "MeasRmsLogRigid", "MeasRmsLogMarginal", "MeasThinPoints")]
 
+# ---------------------------------------------------------------- a bubble's apex (oospectro)
+#: The stated thicknesses of the bubble series (transcribed; provenance in its header and README).
+BUBBLE_STATED = "oospectro_bubble_stated_thickness.csv"
+#: The fits written by :func:`write_bubble_fits` and the curves drawn from them.
+BUBBLE_FITS = "oospectro_bubble_thinning.csv"
+BUBBLE_CURVES = "oospectro_bubble_curves.csv"
+#: The numbers in the names of all the series' files (a listing, for the spacing of the index).
+BUBBLE_FILE_INDEX = "oospectro_bubble_file_index.csv"
+#: The TTAB concentration in multiples of the critical micelle concentration: the source's folder
+#: name, ``20150611_Bulle6_TTAB10cmc``.
+BUBBLE_CMC_MULTIPLE = 10
+#: The confidence level of the q_e interval (F test on the profile of the residual).
+BUBBLE_LEVEL = 0.95
+#: Seconds per unit of the file-name index: not stated by the source; consecutive files differ by
+#: 36-51 units (median 40), as a millisecond clock read at about 25 spectra a second would.
+BUBBLE_TIME_UNIT_S = 1e-3
+#: The laws fitted: name -> (rate exponent of the drainage term or None for no drainage,
+#: evaporation fitted).  dh/dt = -c h^beta - q_e, h1 = h(t1) fitted too.
+BUBBLE_LAWS = {
+    "rigid drainage + evaporation": (3.0, True),
+    "t^-2/3 drainage + evaporation": (2.5, True),
+    "rigid drainage only": (3.0, False),
+    "evaporation only": (None, True),
+}
+#: The profile grid of q_e for its interval (rigid drainage + evaporation), relative to the best q_e.
+_Q_GRID = np.linspace(0.8, 1.2, 81)
+
+
+def load_bubble(path):
+    """``(t_s, h_m)`` of the bubble series: times from the file-name index (:data:`BUBBLE_TIME_UNIT_S`),
+    thicknesses in metres, in the order of time."""
+    _, rows = read_commented_csv(path)
+    t = np.array([float(r["time_index"]) for r in rows]) * BUBBLE_TIME_UNIT_S
+    h = np.array([float(r["stated_nm"]) for r in rows]) * 1e-9
+    order = np.argsort(t)
+    return t[order], h[order]
+
+
+def apex_thinning(t, h1, c, beta, q):
+    """h(t) of dh/dt = -c h^beta - q from h(t[0]) = h1 (SI units; *beta* None: no drainage term).
+    Closed forms for the parts, :func:`scipy.integrate.solve_ivp` (LSODA) for the sum; a film that
+    reaches zero stays at 1e-12 m."""
+    t = np.asarray(t, dtype=float)
+    s = t - t[0]
+    if beta is None:
+        return np.maximum(h1 - q * s, 1e-12)
+    if q == 0:
+        return h1 * (1 + (beta - 1) * c * h1 ** (beta - 1) * s) ** (-1 / (beta - 1))
+    from scipy.integrate import solve_ivp
+
+    sol = solve_ivp(lambda _, y: -c * np.maximum(y, 1e-12) ** beta - q, (t[0], t[-1]), [h1], t_eval=t,
+                    method="LSODA", rtol=1e-10, atol=1e-15)
+    y = sol.y[0]
+    return np.maximum(np.concatenate([y, np.full(t.size - y.size, 1e-12)]), 1e-12)
+
+
+def fit_apex_law(t, h, beta, evaporation, q=None, start=None):
+    """Least squares in ln h of :func:`apex_thinning`: ``{"h1", "c", "q", "rms_log"}`` (SI);
+    *q* given holds the evaporation rate at that value.  Several starts of c (and q), or the one
+    fit *start* (a previous result) if given."""
+    from scipy.optimize import least_squares
+
+    def ex(x):
+        return math.exp(min(max(float(x), -300.0), 300.0))
+
+    def unpack(p):
+        h1 = ex(p[0])
+        c = ex(p[1]) if beta is not None else 0.0
+        qq = q if q is not None else (ex(p[-1]) if evaporation else 0.0)
+        return h1, c, qq
+
+    def resid(p):
+        h1, c, qq = unpack(p)
+        return np.log(apex_thinning(t, h1, c, beta, qq)) - np.log(h)
+
+    starts_c = [[]] if beta is None else [[lc] for lc in np.linspace(-5.0, 30.0, 8)]
+    starts_q = [[]] if (not evaporation or q is not None) else [[math.log(v)] for v in (1e-8, 3e-8, 1e-7)]
+    if start is not None:
+        starts_c = [[]] if beta is None else [[math.log(start["c"])]]
+        starts_q = [[]] if not starts_q[0] else [[math.log(start["q"])]]
+    best = None
+    for sc in starts_c:
+        for sq in starts_q:
+            h0 = math.log(h[0]) if start is None else math.log(start["h1"])
+            r = least_squares(resid, [h0] + sc + sq, method="lm")
+            if best is None or r.cost < best.cost:
+                best = r
+    h1, c, qq = unpack(best.x)
+    return {"h1": h1, "c": c, "q": qq, "rms_log": math.sqrt(2 * best.cost / t.size)}
+
+
+def bubble_fits(path):
+    """The rows of :data:`BUBBLE_FITS` and the curves (t_s, {law: h_m}) for the figure."""
+    from scipy.stats import f as f_dist
+
+    from bubbleoptics.filmflow import FilmParameters
+
+    p = FilmParameters()
+    t, h = load_bubble(path)
+    rows, curves = [], {}
+    tt = np.linspace(t[0], t[-1], 241)
+    for law, (beta, evap) in BUBBLE_LAWS.items():
+        fit = fit_apex_law(t, h, beta, evap)
+        row = {"law": law, "beta": beta if beta is not None else math.nan, "h1_nm": fit["h1"] * 1e9,
+               "c_per_m2_s": fit["c"], "q_e_m_per_s": fit["q"], "q_e_low": math.nan, "q_e_high": math.nan,
+               "radius_equiv_mm": math.nan, "rms_log": fit["rms_log"], "n_points": t.size,
+               "t_first_s": t[0], "t_last_s": t[-1], "h_first_nm": h[0] * 1e9, "h_last_nm": h[-1] * 1e9}
+        if beta == 3.0 and fit["c"] > 0:  # c = rho g / (6 mu R): the radius whose rigid drainage this is
+            row["radius_equiv_mm"] = 1e3 * p.density * p.gravity / (6 * p.viscosity * fit["c"])
+        if law == "rigid drainage + evaporation":  # profile interval of q_e (F test, 95 %)
+            n, k = t.size, 3
+            bound = (fit["rms_log"] ** 2 * n) * (1 + f_dist.ppf(BUBBLE_LEVEL, 1, n - k) / (n - k))
+            grid = fit["q"] * _Q_GRID
+            prof = np.array([fit_apex_law(t, h, beta, evap, q=qv, start=fit)["rms_log"] ** 2 * n for qv in grid])
+            ok = grid[prof <= bound]
+            if ok.size and ok.min() > grid[0] and ok.max() < grid[-1]:
+                row["q_e_low"], row["q_e_high"] = float(ok.min()), float(ok.max())
+        rows.append(row)
+        curves[law] = apex_thinning(tt, fit["h1"], fit["c"], beta, fit["q"])
+    return rows, (tt, curves)
+
+
+def write_bubble_fits(data_dir):
+    """Write :data:`BUBBLE_FITS` and :data:`BUBBLE_CURVES` into *data_dir* from :data:`BUBBLE_STATED`."""
+    from study import provenance, write_csv
+
+    data_dir = Path(data_dir)
+    rows, (tt, curves) = bubble_fits(data_dir / BUBBLE_STATED)
+    head = [provenance("paper/scripts/numbers_measured.py",
+                       "regenerate with: python paper/scripts/numbers_measured.py"),
+            f"input: {BUBBLE_STATED} (thicknesses stated in github.com/sciunto-org/oospectro v0.4.0; see README.md)",
+            "dh/dt = -c h^beta - q_e fitted in ln h (h1 = h(t1) free); t in s read from the file index as ms "
+            "(an inference); radius_equiv_mm: R with c = rho g/(6 mu R), this project's rigid-drainage apex "
+            "(water, FilmParameters); q_e_low/high: 95 % profile interval (F test) on a grid of 0.8-1.2 times "
+            "the best q_e in steps of 0.005"]
+    write_csv(data_dir / BUBBLE_FITS, rows, head, float_format="{:.6g}", na_rep="")
+    crow = [{"t_s": float(x), **{law: float(curves[law][i] * 1e9) for law in curves}} for i, x in enumerate(tt)]
+    write_csv(data_dir / BUBBLE_CURVES, crow, head[:2] + ["the fitted laws of " + BUBBLE_FITS + ", h in nm"],
+              float_format="{:.6g}")
+    return rows
+
+
+def bubble(dirs):
+    _, rows = read_commented_csv(dirs["data"] / "measured" / BUBBLE_FITS)
+    _, files = read_commented_csv(dirs["data"] / "measured" / BUBBLE_FILE_INDEX)
+    step = np.diff(np.sort([int(r["time_index"]) for r in files]))
+    law = {r["law"]: r for r in rows}
+    both, mr = law["rigid drainage + evaporation"], law["t^-2/3 drainage + evaporation"]
+    dry, evap = law["rigid drainage only"], law["evaporation only"]
+    return {
+        "MeasBubN": both["n_points"],
+        "MeasBubFirstNm": f"{float(both['h_first_nm']):.0f}",
+        "MeasBubLastNm": f"{float(both['h_last_nm']):.0f}",
+        "MeasBubSpanS": significant(float(both["t_last_s"]) - float(both["t_first_s"]), 2),
+        "MeasBubRmsBoth": significant(float(both["rms_log"]), 2),
+        "MeasBubRmsMr": significant(float(mr["rms_log"]), 2),
+        "MeasBubRmsDry": significant(float(dry["rms_log"]), 2),
+        "MeasBubRmsEvap": significant(float(evap["rms_log"]), 2),
+        "MeasBubQe": significant(1e8 * float(both["q_e_m_per_s"]), 2),
+        "MeasBubQeLow": _down(1e8 * float(both["q_e_low"])),
+        "MeasBubQeHigh": _up(1e8 * float(both["q_e_high"])),
+        "MeasBubQeMr": significant(1e8 * float(mr["q_e_m_per_s"]), 2),
+        "MeasBubRadiusMm": significant(float(both["radius_equiv_mm"]), 2),
+        "MeasBubCmc": str(BUBBLE_CMC_MULTIPLE),
+        "MeasBubLevel": f"{100 * BUBBLE_LEVEL:g}",
+        "MeasBubFiles": str(len(files)),
+        "MeasBubStepMin": str(int(step.min())),
+        "MeasBubStepMax": str(int(step.max())),
+        "MeasBubStepMedian": f"{float(np.median(step)):g}",
+    }
+
+
+BUBBLE_MACROS = ["MeasBubN", "MeasBubFirstNm", "MeasBubLastNm", "MeasBubSpanS", "MeasBubRmsBoth", "MeasBubRmsMr",
+                 "MeasBubRmsDry", "MeasBubRmsEvap", "MeasBubQe", "MeasBubQeLow", "MeasBubQeHigh", "MeasBubQeMr",
+                 "MeasBubRadiusMm", "MeasBubCmc", "MeasBubLevel", "MeasBubFiles", "MeasBubStepMin", "MeasBubStepMax",
+                 "MeasBubStepMedian"]
+
 SECTIONS = {
     "measured": (["measured/optifik_comparison.csv"], comparison, COMPARISON_MACROS),
     "measuredthinning": (["measured/optifik_thinning.csv"], thinning, THINNING_MACROS),
+    "measuredbubble": ([f"measured/{BUBBLE_FITS}", f"measured/{BUBBLE_FILE_INDEX}"], bubble, BUBBLE_MACROS),
 }
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import paths
+
+    for r in write_bubble_fits(paths.DATA / "measured"):
+        print(f"{r['law']}: rms_log {r['rms_log']:.4f}, q_e {r['q_e_m_per_s']:.3g} m/s, "
+              f"R_equiv {r['radius_equiv_mm']:.3g} mm")
