@@ -17,7 +17,12 @@ front of the same settings by the error over all pixels.  Star: the defaults the
 ran with; dotted vertical line: the reference's time; dash-dotted horizontal line: the
 reference's floor (a second reference with another seed, scored the same way: errors below it
 are not resolved); shaded: the target (mean ΔE00 <= 0.5, at least 20x faster than the
-reference).  Quick mode draws the same figure (it only reads the file).
+reference).  Each point is labelled with the value of the factor it sweeps (number of bands,
+``t`` threshold, samples per pixel, ``d`` depth) where the label fits without covering another
+label, a marker or a legend (:func:`place_labels`, greedy: points on the front first); the
+legend is split over the four panels, each part in the free space above that panel's points
+(the top of the axes is raised until it covers none).  Quick mode draws the same figure (it
+only reads the file).
 """
 
 import sys
@@ -30,17 +35,17 @@ from study import pareto_front, tradeoffs
 
 CSV = paths.DERIVED / "time_vs_error.csv"
 SCENES = {"builtin": "built-in scene", "bubbles": "six bubbles", "materials": "bubble and spheres",
-          "thick": "thick films (1.6 to 3 $\\mu$m)"}
+          "thick": "thick films ({lo} to {hi} $\\mu$m)"}  # the films' range: numbers_time_vs_error.film_range_um
 #: factor group -> (label, marker, colour index in the style's cycle, filled)
 GROUPS = {
     "point": ("bands, point", "o", 0, True),
-    "band": ("bands, band-averaged", "D", 5, True),
+    "band": ("bands, averaged", "D", 5, True),
     "rgb": ("RGB transport", "X", 1, True),
     "threshold": ("threshold", "s", 4, True),
-    "spp": ("samples per pixel", "^", 2, True),
+    "spp": ("samples/pixel", "^", 2, True),
     "depth": ("depth", "v", 3, True),
     "grid": ("combined", "P", 6, False),
-    "ideal": ("1 nm, exhaustive, 1 spp", "h", 6, True),
+    "ideal": ("reference, 1 spp", "h", 6, True),
 }
 
 
@@ -58,18 +63,108 @@ def group(r):
     return r["factor"] if r["factor"] in GROUPS else None
 
 
+#: which legend entries each panel holds, in the free space of its axes (upper right)
+LEGEND_PANELS = {
+    "builtin": ["bands, point", "bands, averaged", "RGB transport", "threshold"],
+    "bubbles": ["samples/pixel", "depth", "combined", "reference, 1 spp"],
+    "materials": ["defaults", "Pareto front", "front, all pixels", "target"],
+    "thick": ["reference's time", "reference's floor"],
+}
+
+
+def label_of(r):
+    """The short label of a point: the value of the factor it sweeps (bands, threshold, samples
+    per pixel, depth), or None for the combined grid and the reference's transport (the legend
+    names those)."""
+    g = group(r)
+    if g == "rgb":
+        return "RGB"
+    if g in ("point", "band"):
+        return f"{int(r['spectral_samples'])}"
+    if g == "threshold":
+        return f"t {r['threshold']:g}"
+    if g == "spp":
+        return f"{int(r['spp'])} spp"
+    if g == "depth":
+        return f"d {int(r['depth'])}"
+    return None
+
+
+#: labelling order: points on the interior front first, then these groups
+LABEL_PRIORITY = ["point", "band", "rgb", "spp", "depth", "threshold"]
+#: where a label may go around its point, in points (dx, dy, horizontal, vertical alignment)
+OFFSETS = [(3.2, 0, "left", "center"), (-3.2, 0, "right", "center"), (0, 2.6, "center", "bottom"),
+           (0, -2.6, "center", "top"), (2.6, 2.2, "left", "bottom"), (-2.6, 2.2, "right", "bottom"),
+           (2.6, -2.2, "left", "top"), (-2.6, -2.2, "right", "top")]
+
+
+def _overlaps(a, b, pad=0.0):
+    return not (a.x1 + pad <= b.x0 or b.x1 + pad <= a.x0 or a.y1 + pad <= b.y0 or b.y1 + pad <= a.y0)
+
+
+def place_labels(fig, ax, points, front, blocked):
+    """Label *points* of *ax* with :func:`label_of`, greedily, each where it overlaps no other
+    label, marker or legend (*blocked*: display boxes to avoid) and stays inside the axes; a point
+    with no such place is left unlabelled.  Returns (labelled, labellable)."""
+    from matplotlib import patheffects
+    from matplotlib.transforms import Bbox
+
+    renderer = fig.canvas.get_renderer()
+    px = fig.dpi / 72.0
+    inside = ax.get_window_extent(renderer)
+    xy = [ax.transData.transform((r["seconds"], r["interior_mean_de00"])) for r in points]
+    marks = [Bbox.from_extents(x - 2.2 * px, y - 2.2 * px, x + 2.2 * px, y + 2.2 * px) for x, y in xy]
+    taken = list(blocked) + marks
+    order = sorted((i for i, r in enumerate(points) if label_of(r) is not None),
+                   key=lambda i: (i not in front, LABEL_PRIORITY.index(group(points[i])), points[i]["seconds"]))
+    placed = 0
+    for i in order:
+        for dx, dy, ha, va in OFFSETS:
+            t = ax.annotate(label_of(points[i]), (points[i]["seconds"], points[i]["interior_mean_de00"]),
+                            xytext=(dx, dy), textcoords="offset points", ha=ha, va=va, fontsize=7, color="0.15",
+                            zorder=6, annotation_clip=False,
+                            path_effects=[patheffects.withStroke(linewidth=1.6, foreground="white")])
+            t.set_in_layout(False)
+            box = t.get_window_extent(renderer)
+            if (box.x0 >= inside.x0 and box.x1 <= inside.x1 and box.y0 >= inside.y0 and box.y1 <= inside.y1
+                    and not any(_overlaps(box, b, 0.3 * px) for k, b in enumerate(taken) if k != len(blocked) + i)):
+                taken.append(box)
+                placed += 1
+                break
+            t.remove()
+    return placed, len(order)
+
+
+def _legend_covers_points(ax, points, renderer):
+    """Whether the legend of *ax* covers one of *points* (a marker's box) or the defaults' star."""
+    box = ax.get_legend().get_window_extent(renderer)
+    px = ax.figure.dpi / 72.0
+    for r in points:
+        x, y = ax.transData.transform((r["seconds"], r["interior_mean_de00"]))
+        if box.x0 - 2 * px <= x <= box.x1 + 2 * px and box.y0 - 2 * px <= y <= box.y1 + 2 * px:
+            return True
+    return False
+
+
 def main(argv=None):
     paths.parse_args(__doc__.splitlines()[0], argv)
     rows = read_rows(CSV)
-    fig = style.figure(width=style.COLUMN_WIDTH, height=4.9)
-    axes = fig.subplot_mosaic([["builtin", "bubbles"], ["materials", "thick"], ["legend", "legend"]],
-                              height_ratios=[1.0, 1.0, 0.42])
+    fig = style.figure(width=style.COLUMN_WIDTH, height=3.9)
+    axes = fig.subplot_mosaic([["builtin", "bubbles"], ["materials", "thick"]])
     colors = [c["color"] for c in style.matplotlib.rcParams["axes.prop_cycle"]]
-    handles = {}
+    handles, fronts = {}, {}
+    from matplotlib.patches import Patch
+
+    from macros import significant
+    from numbers_time_vs_error import film_range_um
+
+    lo_um, hi_um = film_range_um()
     for scene, title in SCENES.items():
+        title = title.format(lo=significant(lo_um, 2), hi=significant(hi_um, 2))
         ax = axes[scene]
         sf = tradeoffs.scene_front(rows, scene)
         pts, t_ref, default, front = sf["points"], sf["reference_seconds"], sf["default"], sf["front"]
+        fronts[scene] = (pts, set(int(i) for i in front))
         t = np.array([r["seconds"] for r in pts])
         e_int = np.array([r["interior_mean_de00"] for r in pts])
         e_all = np.array([r["mean_de00"] for r in pts])
@@ -94,10 +189,9 @@ def main(argv=None):
         h_front, = ax.step(t[front], e_int[front], "-", where="post", color="k", lw=0.7, zorder=2)
         h_def, = ax.plot(default["seconds"], default["interior_mean_de00"], "*", markersize=7, color="#F0E442",
                          markeredgecolor="k", markeredgewidth=0.5, zorder=5)
-        ax.axvline(t_ref, color="k", ls=":", lw=0.6)
+        h_ref = ax.axvline(t_ref, color="k", ls=":", lw=0.6)
         if np.isfinite(floor):
-            h_floor = ax.axhline(floor, color="0.3", ls="-.", lw=0.6, zorder=1)
-        ax.text(t_ref / 1.15, hi_e / 1.3, "reference", rotation=90, ha="right", va="top", fontsize=7)
+            handles["reference's floor"] = ax.axhline(floor, color="0.3", ls="-.", lw=0.6, zorder=1)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(lo_t, hi_t)
@@ -112,14 +206,37 @@ def main(argv=None):
     handles["Pareto front"] = h_front
     handles["front, all pixels"] = h_all
     handles["defaults"] = h_def
-    handles["reference's floor"] = h_floor
-    from matplotlib.patches import Patch
-
+    handles["reference's time"] = h_ref
     handles["target"] = Patch(color=colors[2], alpha=0.12, lw=0)
-    leg = axes["legend"]
-    leg.set_axis_off()
-    leg.legend(handles.values(), handles.keys(), loc="center", fontsize=7, handlelength=1.6, borderaxespad=0,
-               labelspacing=0.35, ncol=2, columnspacing=1.0)
+    listed = [name for names in LEGEND_PANELS.values() for name in names]
+    if sorted(listed) != sorted(handles):
+        raise ValueError(f"legend entries {sorted(listed)} are not the figure's {sorted(handles)}")
+    for scene, names in LEGEND_PANELS.items():
+        axes[scene].legend([handles[n] for n in names], names, loc="upper right", fontsize=7, handlelength=1.4,
+                           handletextpad=0.4, borderaxespad=0.25, borderpad=0.15, labelspacing=0.15, frameon=True,
+                           framealpha=0.85, edgecolor="none", facecolor="white")
+    # headroom above the points for each legend: raise the top of the axes until the legend
+    # covers no marker
+    for _ in range(12):
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        crowded = [sc for sc in SCENES if _legend_covers_points(axes[sc], fronts[sc][0], renderer)]
+        if not crowded:
+            break
+        for sc in crowded:
+            lo, hi = axes[sc].get_ylim()
+            axes[sc].set_ylim(lo, hi * 1.4)
+    else:
+        raise ValueError("fig_time_vs_error: no room for a legend above the points")
+    fig.canvas.draw()  # the constrained layout, fixed before the labels are placed around the points
+    fig.set_layout_engine("none")
+    renderer = fig.canvas.get_renderer()
+    for scene in SCENES:
+        ax = axes[scene]
+        blocked = [ax.get_legend().get_window_extent(renderer)]
+        pts, front = fronts[scene]
+        placed, total = place_labels(fig, ax, pts, front, blocked)
+        print(f"{scene}: {placed} of {total} points labelled")
     for path in style.savefig(fig, "fig_time_vs_error"):
         print(f"wrote {path}")
     return 0
