@@ -92,10 +92,12 @@ def label_of(r):
 
 #: labelling order: points on the interior front first, then these groups
 LABEL_PRIORITY = ["point", "band", "rgb", "spp", "depth", "threshold"]
-#: where a label may go around its point, in points (dx, dy, horizontal, vertical alignment)
+#: where a label may go around its point, in points (dx, dy, horizontal, vertical alignment): next
+#: to it first, then (a second pass, for the points still unlabelled) farther out with a leader line
 OFFSETS = [(3.2, 0, "left", "center"), (-3.2, 0, "right", "center"), (0, 2.6, "center", "bottom"),
            (0, -2.6, "center", "top"), (2.6, 2.2, "left", "bottom"), (-2.6, 2.2, "right", "bottom"),
            (2.6, -2.2, "left", "top"), (-2.6, -2.2, "right", "top")]
+FAR = 3.0  # the second pass's offsets: OFFSETS times this
 
 
 def _overlaps(a, b, pad=0.0):
@@ -107,6 +109,7 @@ def place_labels(fig, ax, points, front, blocked):
     label, marker or legend (*blocked*: display boxes to avoid) and stays inside the axes; a point
     with no such place is left unlabelled.  Returns (labelled, labellable)."""
     from matplotlib import patheffects
+    from matplotlib.text import Text
     from matplotlib.transforms import Bbox
 
     renderer = fig.canvas.get_renderer()
@@ -117,21 +120,28 @@ def place_labels(fig, ax, points, front, blocked):
     taken = list(blocked) + marks
     order = sorted((i for i, r in enumerate(points) if label_of(r) is not None),
                    key=lambda i: (i not in front, LABEL_PRIORITY.index(group(points[i])), points[i]["seconds"]))
-    placed = 0
-    for i in order:
-        for dx, dy, ha, va in OFFSETS:
-            t = ax.annotate(label_of(points[i]), (points[i]["seconds"], points[i]["interior_mean_de00"]),
-                            xytext=(dx, dy), textcoords="offset points", ha=ha, va=va, fontsize=7, color="0.15",
-                            zorder=6, annotation_clip=False,
-                            path_effects=[patheffects.withStroke(linewidth=1.6, foreground="white")])
-            t.set_in_layout(False)
-            box = t.get_window_extent(renderer)
-            if (box.x0 >= inside.x0 and box.x1 <= inside.x1 and box.y0 >= inside.y0 and box.y1 <= inside.y1
-                    and not any(_overlaps(box, b, 0.3 * px) for k, b in enumerate(taken) if k != len(blocked) + i)):
-                taken.append(box)
-                placed += 1
-                break
-            t.remove()
+    placed = set()
+    for far in (False, True):
+        for i in order:
+            if i in placed:
+                continue
+            for dx, dy, ha, va in OFFSETS:
+                k = FAR if far else 1.0
+                leader = dict(arrowstyle="-", lw=0.35, color="0.35", shrinkA=0.5, shrinkB=2.2) if far else None
+                t = ax.annotate(label_of(points[i]), (points[i]["seconds"], points[i]["interior_mean_de00"]),
+                                xytext=(k * dx, k * dy), textcoords="offset points", ha=ha, va=va, fontsize=7,
+                                color="0.15", zorder=6, annotation_clip=False, arrowprops=leader,
+                                path_effects=[patheffects.withStroke(linewidth=1.6, foreground="white")])
+                t.set_in_layout(False)
+                t.update_positions(renderer)
+                box = Text.get_window_extent(t, renderer)  # the text alone, not its leader
+                if (box.x0 >= inside.x0 and box.x1 <= inside.x1 and box.y0 >= inside.y0 and box.y1 <= inside.y1
+                        and not any(_overlaps(box, b, 0.3 * px) for k, b in enumerate(taken) if k != len(blocked) + i)):
+                    taken.append(box)
+                    placed.add(i)
+                    break
+                t.remove()
+    placed = len(placed)
     return placed, len(order)
 
 
