@@ -1,6 +1,6 @@
 """The Cycles attribution's sensitivity to how the environment's RGB is lifted to a spectrum.
 
-Run:  python benchmarks/peer_cycles_lifting.py [--quick] [--out PATH] [--methods M ...]
+Run:  python benchmarks/peer_cycles_lifting.py [--quick] [--out PATH] [--methods M ...] [--lifted NPZ]
 Writes ``data/derived/peer_cycles_lifting.csv`` (read by ``paper/scripts/numbers_cycles.py`` and
 ``paper/scripts/fig_peer_cycles.py``); ``--quick`` (the thickest film, a 256-row environment, 8 spp) writes
 into a temporary folder unless ``--out`` is given.  Needs no Blender: Cycles' images are the
@@ -25,9 +25,10 @@ Jakob & Hanika 2019, Smits 1999, Otsu et al. 2018), and for each lifting and fil
    row as the tracer does, its spectra the lifting's.  Rows: the reference's move (this lifting
    against Mallett-Yuksel), the colour model (Cycles' RGB model, ``peer_cycles.model_image("rgb")``,
    against this lifting's closed form), all of Cycles' model (``"cycles"``: cut and clamp too),
-   and Cycles' render against this lifting's closed form.  With Mallett-Yuksel these are the
-   rows of ``peer_cycles.csv`` up to the nearest-row lookup and the float16 images (the
-   ``check`` rows say by how much).
+   and Cycles' render against this lifting's closed form; the RGB models are evaluated with the
+   same nearest-row lookup.  With Mallett-Yuksel these are the rows of ``peer_cycles.csv`` up to
+   the nearest-row lookup and the float16 images (the ``check`` rows: each nearest-row closed
+   form against ``peer_cycles.model_image``'s continuous one).
 3. **Rendered.**  The tracer's environment lookup is linear in RGB (a basis (C, 3) times the
    texel), so a non-linear lifting enters it as its best linear fit over the environment's
    rows (:func:`study.lifting.linear_fit`; ``channel_setup`` replaced for the render).  Ours
@@ -68,20 +69,35 @@ def row_index(dirs, height):
     return np.minimum(height - 1, (theta / math.pi * height).astype(int))
 
 
-def closed_form(table, thickness_nm, size, n_film=pc.FILM_N, depth=pc.DEPTH):
-    """The bubble's closed-form image (size, size, 3) with the environment's row *i* the band
-    spectrum ``table[i]`` (H, C): the exact Airy reflectance at the band centres, first
-    reflection plus the internal ones (``peer_cycles.model_image("exact")`` with another light),
-    to linear sRGB through the tracer's ``to_rgb``.  Outside the bubble: the RGB environment."""
+def closed_form(table, thickness_nm, size, model="spectral", n_film=pc.FILM_N, depth=pc.DEPTH):
+    """The bubble's closed-form image (size, size, 3), the environment's row *i* being ``table[i]``
+    and looked up by the nearest row as the tracer does (:func:`row_index`); first reflection
+    plus the internal ones, as ``peer_cycles.model_image``.  *model* ``"spectral"``: *table* (H, C)
+    band spectra, the exact Airy reflectance at the band centres, to linear sRGB through the
+    tracer's ``to_rgb`` (``model_image("exact")`` with another light); ``"rgb"`` and ``"cycles"``:
+    *table* (H, 3) linear sRGB, the reflectance per channel through ``peer_cycles.rgb_cmfs``
+    (``"cycles"``: cut after m = 3 and clamped), as ``model_image`` does.  Outside the bubble: the
+    RGB environment."""
     from tracer.prepare.pack import channel_setup
 
     table = np.asarray(table, float)
-    wl, to_rgb, _ = channel_setup(True, table.shape[1])
     hit, cos, refl, outs = pc.sphere_paths(size, depth=depth)
     cam, _ = pc.camera_rays(size)
     image = pc.environment_radiance(cam)
+    c = cos[hit][:, None]
     with np.errstate(invalid="ignore", divide="ignore"):
-        R = pc.free_film_reflectance(wl[None, :], thickness_nm, cos[hit][:, None], n_film)
+        if model == "spectral":
+            wl, to_rgb, _ = channel_setup(True, table.shape[1])
+            R = pc.free_film_reflectance(wl[None, :], thickness_nm, c, n_film)
+        elif model in ("rgb", "cycles"):
+            wl = np.arange(360.0, 781.0, 1.0)
+            m_max = None if model == "rgb" else pc.AIRY_CUT
+            R = pc.free_film_reflectance(wl[None, :], thickness_nm, c, n_film, m_max) @ pc.rgb_cmfs(wl).T
+            if model == "cycles":
+                R = np.clip(R, 0.0, 1.0)
+            to_rgb = np.eye(3)
+        else:
+            raise ValueError(f"unknown model {model!r}")
 
     def light(dirs):
         return table[row_index(dirs, table.shape[0])]
@@ -127,6 +143,8 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=None, help=f"CSV to write (default {OUT.relative_to(ROOT)})")
     parser.add_argument("--methods", nargs="+", default=list(lifting.METHODS[1:]), choices=lifting.METHODS[1:],
                         help="liftings to compare with Mallett-Yuksel")
+    parser.add_argument("--lifted", type=Path, default=None, help="an .npz to reuse the lifted rows from (if it "
+                        "holds the same rows) and to write them to: Jakob2019's optimisation takes minutes")
     args = parser.parse_args(argv)
     if not IMAGES.exists():
         print(f"peer_cycles_lifting: {IMAGES} is missing: run benchmarks/peer_cycles.py first", file=sys.stderr)
@@ -158,13 +176,25 @@ def main(argv=None):
 
     # 1. the liftings of the environment's rows
     tables = {("Mallett2019", "corrected"): lifting.lift(rows_rgb, "Mallett2019", BANDS)}
+    cached = {}
+    if args.lifted is not None and args.lifted.exists():
+        with np.load(args.lifted) as f:
+            if f["rows"].shape == rows_rgb.shape and np.array_equal(f["rows"], rows_rgb):
+                cached = {k: f[k] for k in f.files}
     for method in args.methods:
         t0 = time.perf_counter()
-        raw = lifting.lift(rows_rgb, method, BANDS)
-        timings.append(f"{method} {time.perf_counter() - t0:.0f} s for {height} colours")
+        if method in cached:
+            raw = cached[method]
+            timings.append(f"{method} {float(cached[method + '_seconds']):.0f} s for {height} colours")
+        else:
+            raw = lifting.lift(rows_rgb, method, BANDS)
+            cached[method], cached[method + "_seconds"] = raw, np.array(time.perf_counter() - t0)
+            timings.append(f"{method} {time.perf_counter() - t0:.0f} s for {height} colours")
         print(f"lifted {height} rows by {method} in {time.perf_counter() - t0:.1f} s", flush=True)
         tables[(method, "raw")] = raw
         tables[(method, "corrected")] = lifting.corrected(raw, rows_rgb)
+    if args.lifted is not None:
+        np.savez(args.lifted, rows=rows_rgb, **cached)
     for (method, variant), table in tables.items():
         de = delta_e00(lifting.to_rgb(table), rows_rgb)
         add(section="round_trip", lifting=method, variant=variant, setting="environment rows through 64 bands",
@@ -176,12 +206,13 @@ def main(argv=None):
     for d in thicknesses:
         print(f"\nfilm {d:g} nm:", flush=True)
         cyc = cycles_image(d)
-        rgb_model = pc.model_image("rgb", d, size=size)
-        cycles_model = pc.model_image("cycles", d, size=size)
+        rgb_model = closed_form(rows_rgb, d, size, "rgb")
+        cycles_model = closed_form(rows_rgb, d, size, "cycles")
         base = closed_form(tables[("Mallett2019", "corrected")], d, size)
-        check = pc.model_image("exact", d, size=size)
-        add(section="check", lifting="Mallett2019", variant="corrected", thickness_nm=d,
-            setting="nearest-row closed form vs peer_cycles.model_image exact", **stats(base, check, masks))
+        for model, mine in (("exact", base), ("rgb", rgb_model), ("cycles", cycles_model)):
+            add(section="check", lifting="Mallett2019", variant="corrected", thickness_nm=d,
+                setting=f"nearest-row closed form vs peer_cycles.model_image {model}",
+                **stats(mine, pc.model_image(model, d, size=size), masks))
         for (method, variant), table in tables.items():
             exact = closed_form(table, d, size)
             common = dict(section="closed_form", lifting=method, variant=variant, thickness_nm=d)

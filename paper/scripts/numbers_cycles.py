@@ -1,8 +1,10 @@
 """The numbers of the section "An independent renderer" (``paper/sections/peer_cycles.tex``).
 
 Read from ``data/derived/peer_cycles.csv`` (``benchmarks/peer_cycles.py``, Blender's Cycles in
-its own venv).  A plug-in of :mod:`make_numbers` (its ``SECTIONS`` format); a missing file makes
-every number n/a.
+its own venv) and, for the attribution's sensitivity to the RGB-to-spectrum lifting, from
+``data/derived/peer_cycles_lifting.csv`` (``benchmarks/peer_cycles_lifting.py``).  A plug-in of
+:mod:`make_numbers` (its ``SECTIONS`` format); a missing file makes every number of its section
+n/a.
 """
 
 import re
@@ -126,4 +128,103 @@ def cycles(dirs):
     return out
 
 
-SECTIONS = {"cycles": (["derived/peer_cycles.csv"], cycles, MACROS)}
+#: per film, over the liftings other than the tracer's (corrected round trip, closed form): (macro
+#: stem, setting prefix, statistic) with the statistic "range" (CyclesLift<stem>Min/Max<film>) or
+#: "max" (rounded up)
+LIFT_PER_FILM = (("De", "Cycles render vs", "range"), ("Colour", "colour model", "range"),
+                 ("Move", "reference moves", "max"))
+LIFT_MACROS = ["CyclesLiftColourChange", "CyclesLiftColourShareDev", "CyclesLiftCheckMax", "CyclesLiftFitMax", "CyclesLiftOthersRoundTrip", "CyclesLiftMoveMax"]
+LIFT_MACROS += [f"CyclesLift{stem}{end}{word}" for stem, _, kind in LIFT_PER_FILM
+                for end in (("Min", "Max") if kind == "range" else ("Max",)) for word in THICKNESS_WORDS.values()]
+#: the supplement's table, one row per lifting: CyclesLift<method><stem><film> (corrected, closed form;
+#: "Rendered": Cycles against our render with the lifting's linear fit), CyclesLift<method>RoundTrip
+#: (raw, largest over the environment's rows), ...Check and ...Fit (rendered, largest over the films)
+LIFT_METHOD_WORDS = {"Mallett2019": "Mallett", "Jakob2019": "Jakob", "Smits1999": "Smits", "Otsu2018": "Otsu"}
+LIFT_METHOD_STEMS = (("De", "closed_form", "Cycles render vs"), ("Colour", "closed_form", "colour model"),
+                     ("Move", "closed_form", "reference moves"), ("Rendered", "rendered", "Cycles render vs render"))
+LIFT_MACROS += [f"CyclesLift{m}{stem}{word}" for m in LIFT_METHOD_WORDS.values() for stem, *_ in LIFT_METHOD_STEMS
+                for word in THICKNESS_WORDS.values() if not (m == "Mallett" and stem == "Rendered")]
+LIFT_MACROS += [f"CyclesLift{m}{what}" for m in LIFT_METHOD_WORDS.values() for what in ("RoundTrip", "Check", "Fit")
+                if not (m == "Mallett" and what != "RoundTrip")]
+LIFT_MACROS += ["CyclesLiftRows", "CyclesLiftBaseCheckMax", "CyclesLiftSmitsRawColourEightHundred",
+                "CyclesLiftJakobSeconds"]
+
+
+def cycles_lifting(dirs):
+    notes, rows = read_commented_csv(dirs["derived"] / "peer_cycles_lifting.csv")
+    others = [r for r in rows if r["section"] == "closed_form" and r["variant"] == "corrected"
+              and r["lifting"] != "Mallett2019"]
+    out = {}
+    moves = []
+    for stem, prefix, kind in LIFT_PER_FILM:
+        for d, word in THICKNESS_WORDS.items():
+            values = [_f(r, "bubble_mean") for r in others
+                      if r["setting"].startswith(prefix) and float(r["thickness_nm"]) == d]
+            if not values:
+                continue
+            if kind == "range":
+                out[f"CyclesLift{stem}Min{word}"] = significant(min(values), 2)
+                out[f"CyclesLift{stem}Max{word}"] = significant(max(values), 2)
+            else:
+                out[f"CyclesLift{stem}Max{word}"] = up_to(max(values), 2)
+                moves += values
+    if moves:
+        out["CyclesLiftMoveMax"] = up_to(max(moves), 2)
+    # the coloured films (200 nm and thicker; the black film's differences are noise): how much
+    # the colour-model step changes from ours to another lifting, and its share of Cycles' difference
+    def step(lifting, prefix, d):
+        return next(_f(r, "bubble_mean") for r in rows if r["section"] == "closed_form" and r["variant"] == "corrected"
+                    and r["lifting"] == lifting and r["setting"].startswith(prefix) and float(r["thickness_nm"]) == d)
+
+    films = sorted({float(r["thickness_nm"]) for r in others if float(r["thickness_nm"]) >= 200.0})
+    lifts = sorted({r["lifting"] for r in others})
+    if films and lifts:
+        change = max(abs(step(m, "colour model", d) / step("Mallett2019", "colour model", d) - 1.0)
+                     for m in lifts for d in films)
+        share = max(abs(step(m, "colour model", d) / step(m, "Cycles render vs", d) - 1.0) for m in lifts for d in films)
+        out["CyclesLiftColourChange"] = up_to(100.0 * change, 2)
+        out["CyclesLiftColourShareDev"] = up_to(100.0 * share, 2)
+    rendered = [r for r in rows if r["section"] == "rendered"]
+    for name, prefix in (("CyclesLiftCheckMax", "check"), ("CyclesLiftFitMax", "linear fit")):
+        values = [_f(r, "bubble_mean") for r in rendered if r["setting"].startswith(prefix)]
+        if values:
+            out[name] = up_to(max(values), 2)
+    for method, m in LIFT_METHOD_WORDS.items():
+        for stem, section, prefix in LIFT_METHOD_STEMS:
+            for r in rows:
+                if (r["section"] == section and r["lifting"] == method and r["variant"].startswith("corrected")
+                        and r["setting"].startswith(prefix)):
+                    word = THICKNESS_WORDS.get(float(r["thickness_nm"]))
+                    if word:
+                        out[f"CyclesLift{m}{stem}{word}"] = significant(_f(r, "bubble_mean"), 2)
+        for what, prefix in (("Check", "check"), ("Fit", "linear fit")):
+            values = [_f(r, "bubble_mean") for r in rendered if r["lifting"] == method and r["setting"].startswith(prefix)]
+            if values:
+                out[f"CyclesLift{m}{what}"] = up_to(max(values), 2)
+        trip = [_f(r, "rows_max") for r in rows if r["section"] == "round_trip" and r["lifting"] == method
+                and r["variant"] == ("corrected" if method == "Mallett2019" else "raw")]
+        if trip:
+            out[f"CyclesLift{m}RoundTrip"] = "0" if trip[0] < 1e-9 else up_to(trip[0], 2)
+    base = [_f(r, "bubble_mean") for r in rows if r["section"] == "check"]
+    if base:
+        out["CyclesLiftBaseCheckMax"] = up_to(max(base), 2)
+    raw = [_f(r, "bubble_mean") for r in rows if r["section"] == "closed_form" and r["lifting"] == "Smits1999"
+           and r["variant"] == "raw" and r["setting"].startswith("colour model") and float(r["thickness_nm"]) == 800.0]
+    if raw:
+        out["CyclesLiftSmitsRawColourEightHundred"] = significant(raw[0], 2)
+    text = " ".join(notes)
+    m = re.search(r"environment \d+x(\d+), its rows", text)
+    if m:
+        out["CyclesLiftRows"] = m.group(1)
+    m = re.search(r"Jakob2019 (\d+) s for (\d+) colours", text)
+    if m:
+        out["CyclesLiftJakobSeconds"] = significant(float(m.group(1)) / float(m.group(2)), 1)
+    trips = {r["lifting"]: _f(r, "rows_max") for r in rows if r["section"] == "round_trip" and r["variant"] == "raw"}
+    trips.pop("Smits1999", None)  # Smits' is quoted by itself (CyclesLiftSmitsRoundTrip)
+    if trips:
+        out["CyclesLiftOthersRoundTrip"] = up_to(max(trips.values()), 1)
+    return out
+
+
+SECTIONS = {"cycles": (["derived/peer_cycles.csv"], cycles, MACROS),
+            "cycles_lifting": (["derived/peer_cycles_lifting.csv"], cycles_lifting, LIFT_MACROS)}
