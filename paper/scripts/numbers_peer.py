@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import re
 
+import numpy as np
+
 from macros import NA, date_of, group_digits, read_commented_csv, scientific, significant
 
 #: where these macros stand in numbers.tex (make_numbers.py)
@@ -25,6 +27,34 @@ PEER_CURVES = {
 
 PEER_TARGET_SPP = 4  # the error ours reaches at this many samples per pixel is the target (as the benchmark)
 
+#: thread counts of the sweeps -> macro suffix (every renderer ran at each; the CSV's column threads)
+PEER_THREADS = {1: "OneThread", 2: "TwoThreads"}
+
+
+def peer_curves(sweep, threads):
+    """{PEER_CURVES key: rows sorted by spp} of the sweep at *threads* threads."""
+    curves = {}
+    for key, ident in PEER_CURVES.items():
+        curve = sorted((r for r in sweep if (r["renderer"], r["variant"], r["sampler"]) == ident
+                        and int(r["threads"]) == threads), key=lambda r: int(r["spp"]))
+        if not curve:
+            raise ValueError(f"no rows for {ident} at {threads} threads")
+        curves[key] = curve
+    return curves
+
+
+def ratio_range(slow, fast, metric):
+    """(smallest, largest) time ratio slow / fast at equal *metric* over every error both reach
+    (:func:`study.fronts.time_ratio_curve`)."""
+    from study.fronts import time_ratio_curve
+
+    _, ratios = time_ratio_curve(([float(r["seconds"]) for r in slow], [float(r[metric]) for r in slow]),
+                                 ([float(r["seconds"]) for r in fast], [float(r[metric]) for r in fast]))
+    ratios = ratios[np.isfinite(ratios)]
+    if ratios.size == 0:
+        raise ValueError(f"the curves share no {metric} range")
+    return float(ratios.min()), float(ratios.max())
+
 
 def peer(dirs):
     """Mitsuba 3 against our tracer (``benchmarks/peer_mitsuba.py``): time to the error ours
@@ -34,13 +64,9 @@ def peer(dirs):
 
     notes, rows = read_commented_csv(dirs["derived"] / "peer_mitsuba.csv")
     sweep = [r for r in rows if r["role"] == "sweep"]
-    curves = {}
-    for key, ident in PEER_CURVES.items():
-        curve = sorted((r for r in sweep if (r["renderer"], r["variant"], r["sampler"]) == ident),
-                       key=lambda r: int(r["spp"]))
-        if not curve:
-            raise ValueError(f"no rows for {ident}")
-        curves[key] = curve
+    if "threads" not in sweep[0]:
+        raise ValueError("peer_mitsuba.csv has no threads column: run benchmarks/peer_mitsuba.py again")
+    curves = peer_curves(sweep, max(PEER_THREADS))  # the headline figures: every core, as the figure's (a), (b)
     out = {"PeerDate": date_of(notes)}
     m = re.search(r"mitsuba (\d+(?:\.\d+)+)", " ".join(notes))
     out["PeerVersion"] = m.group(1) if m else NA
@@ -81,6 +107,22 @@ def peer(dirs):
         t_mi = time_at_error([float(r["seconds"]) for r in curves["MitsubaStratified"]],
                              [float(r["rmse"]) for r in curves["MitsubaStratified"]], float(four["rmse"]))
         out[f"PeerRatioRmse{key}"] = significant(t_mi / t_ours, 2)
+    # like for like: Mitsuba's best against ours over every error both curves reach, per thread count
+    for threads, suffix in PEER_THREADS.items():
+        at = peer_curves(sweep, threads)
+        for metric, tag in (("rmse", "Rmse"), ("mean_de00", "De")):
+            for key in ("OursExhaustive", "OursPruned"):
+                low, high = ratio_range(at["MitsubaStratified"], at[key], metric)
+                out[f"PeerRange{tag}{key}{suffix}Low"] = significant(low, 2)
+                out[f"PeerRange{tag}{key}{suffix}High"] = significant(high, 2)
+        # 1 -> 2 threads: each renderer's speed-up at its largest sample count
+        if threads == min(PEER_THREADS):
+            two = peer_curves(sweep, max(PEER_THREADS))
+            for key in ("OursExhaustive", "MitsubaStratified", "MitsubaScalar"):
+                spp = min(int(at[key][-1]["spp"]), int(two[key][-1]["spp"]))
+                one_t = next(float(r["seconds"]) for r in at[key] if int(r["spp"]) == spp)
+                two_t = next(float(r["seconds"]) for r in two[key] if int(r["spp"]) == spp)
+                out[f"PeerSpeedup{key}"] = significant(one_t / two_t, 2)
     # what the curves are made of: seconds per sample per pixel, and samples needed for the target
     per_spp = {k: float(c[-1]["seconds"]) / int(c[-1]["spp"]) for k, c in curves.items()}
     out["PeerSampleCostRatio"] = significant(per_spp["OursExhaustive"] / per_spp["MitsubaStratified"], 2)
@@ -98,6 +140,9 @@ PEER_MACROS = (
      "PeerSampleCostRatio", "PeerSampleCountRatio",
      "PeerMitsubaSppNeeded"]
     + [f"Peer{tag}{k}" for tag in ("Rmse", "De") for k in PEER_CURVES]
+    + [f"PeerRange{tag}{k}{suffix}{end}" for tag in ("Rmse", "De") for k in ("OursExhaustive", "OursPruned")
+       for suffix in PEER_THREADS.values() for end in ("Low", "High")]
+    + [f"PeerSpeedup{k}" for k in ("OursExhaustive", "MitsubaStratified", "MitsubaScalar")]
 )
 
 SECTIONS = {
