@@ -15,7 +15,12 @@ it), so that this script does not depend on where the tracer's modules live.  Th
   black background; RGB transport), its own empty cache;
 * ``warm_fresh_process_builtin``: the built-in scene at 960x960 again, in a fresh process whose
   cache is the one the ``first_render_builtin`` run of the same repeat filled: start-up, import,
-  loading the kernels from the cache, the render and the PNG.
+  loading the kernels from the cache, the render and the PNG;
+* ``make_demo_fresh_clone``: ``make demo`` in a fresh ``git clone`` of this checkout's committed
+  state, as on a fresh machine: the virtual environment created and the package installed from
+  nothing (``PIP_NO_CACHE_DIR=1``; the wheels come from the configured index), the thin-film
+  plots, and the first render with numba's cache empty (the clone has none; ``NUMBA_CACHE_DIR``
+  is unset).  Not with ``--quick``.
 
 Per run: wall time from starting the child to its exit (:func:`time.perf_counter`), its CPU time
 (user + system) and peak resident memory (``ru_maxrss`` of :func:`os.wait4` for that child alone,
@@ -23,7 +28,8 @@ not ``RUSAGE_CHILDREN``, which is the maximum over every child so far), and for 
 the size of the cache directory afterwards.  The repeats interleave the cases, so that a burst of
 other work on the shared machine disturbs one run of each case rather than every run of one.
 Reported: median, min and max; the targets (first render of the built-in scene <= 20 s and
-<= 600 MB, of a sphere-only scene <= 8 s, a warm fresh process <= 1.5 s) beside them.  A repeat
+<= 600 MB, of a sphere-only scene <= 8 s, a warm fresh process <= 1.5 s, ``make demo`` on a
+fresh machine <= 90 s) beside them.  A repeat
 of the three cases takes minutes (two of its runs compile the kernels).
 """
 
@@ -48,6 +54,8 @@ CASES = {
     "first_render_sphere_only": (SPHERE_SCENE, True, 8.0, None),
     "warm_fresh_process_builtin": (None, False, 1.5, None),
 }
+DEMO_CASE = "make_demo_fresh_clone"
+DEMO_TARGET_SECONDS = 90.0
 
 
 def spread(values):
@@ -80,17 +88,44 @@ def run_child(scene, out_png, size, cache_dir):
     return seconds, usage.ru_utime + usage.ru_stime, rss_mb
 
 
+def run_make_demo(work):
+    """``make demo`` in a fresh clone of this checkout (HEAD) under *work*:
+    ``(wall seconds, CPU seconds, peak RSS MB)``; the clone's time is not counted."""
+    clone = work / "clone"
+    shutil.rmtree(clone, ignore_errors=True)
+    subprocess.run(["git", "clone", "--quiet", "--no-hardlinks", str(ROOT), str(clone)], check=True)
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH", "VIRTUAL_ENV", "MAKEFLAGS", "MFLAGS")}
+    env["PIP_NO_CACHE_DIR"] = "1"
+    t0 = time.perf_counter()
+    child = subprocess.Popen(["make", "demo"], cwd=clone, env=env, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.perf_counter() - t0
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise RuntimeError(f"make demo in {clone} exited with {os.waitstatus_to_exitcode(status)}")
+    if not (clone / "demo-output" / "bubbles.png").is_file():
+        raise RuntimeError(f"make demo in {clone} wrote no demo-output/bubbles.png")
+    shutil.rmtree(clone, ignore_errors=True)
+    # ru_maxrss of a reaped child covers the descendants it waited for: the largest process
+    return seconds, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 2**10
+
+
 def main(argv=None):
     args, size, repeats = image_benchmark_arguments(__doc__.splitlines()[0], OUT, 3, 1, argv)
     import numba
 
     load_before = os.getloadavg()[0]
-    runs = {case: [] for case in CASES}
+    cases = dict(CASES)
+    if not args.quick:
+        cases[DEMO_CASE] = (None, True, DEMO_TARGET_SECONDS, None)
+    runs = {case: [] for case in cases}
     work = Path(tempfile.mkdtemp(prefix="first_render_"))
     try:
         for rep in range(repeats):
             caches = {}
             for case, (scene, empty, _, _) in CASES.items():
+                if case == DEMO_CASE:
+                    continue
                 key = scene or "builtin"
                 if empty:
                     cache = work / f"cache_{rep}_{case}"
@@ -105,12 +140,17 @@ def main(argv=None):
                 runs[case].append(run)
                 print(f"repeat {rep}: {case}: {seconds:.2f} s (CPU {cpu:.1f} s), peak RSS {rss:.0f} MB"
                       + (f", cache {run['cache_mb']:.1f} MB" if empty else ""), file=sys.stderr)
+            if DEMO_CASE in cases:
+                seconds, cpu, rss = run_make_demo(work)
+                runs[DEMO_CASE].append(dict(seconds=seconds, cpu=cpu, rss=rss, cache_mb=None))
+                print(f"repeat {rep}: {DEMO_CASE}: {seconds:.2f} s (CPU {cpu:.1f} s), peak RSS {rss:.0f} MB",
+                      file=sys.stderr)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     load_after = os.getloadavg()[0]
 
     rows = []
-    for case, (scene, empty, target_s, target_mb) in CASES.items():
+    for case, (scene, empty, target_s, target_mb) in cases.items():
         r = runs[case]
         med, lo, hi = spread([x["seconds"] for x in r])
         rss_med, rss_lo, rss_hi = spread([x["rss"] for x in r])
@@ -119,7 +159,8 @@ def main(argv=None):
                          width=size, height=size, repeats=len(r), seconds_median=med, seconds_min=lo,
                          seconds_max=hi, cpu_seconds_median=statistics.median(x["cpu"] for x in r),
                          peak_rss_mb_median=rss_med, peak_rss_mb_min=rss_lo, peak_rss_mb_max=rss_hi,
-                         cache_mb_median=statistics.median(x["cache_mb"] for x in r) if empty else None,
+                         cache_mb_median=(statistics.median(x["cache_mb"] for x in r)
+                                          if empty and case != DEMO_CASE else None),
                          target_seconds=target_s, target_rss_mb=target_mb, meets_target=meets,
                          seconds_runs=" ".join(f"{x['seconds']:.2f}" for x in r)))
         print(f"{case}: median {med:.2f} s [{lo:.2f}, {hi:.2f}], peak RSS {rss_med:.0f} MB "
@@ -132,7 +173,9 @@ def main(argv=None):
         f"{repeats} repeat(s), cases interleaved, median (min-max); each run a fresh `python -m tracer image` "
         f"process at {size}x{size} (render defaults otherwise); first_render_*: a new empty NUMBA_CACHE_DIR per run; "
         f"warm_fresh_process_builtin: the cache that repeat's first_render_builtin filled; peak RSS: the child's "
-        f"ru_maxrss (os.wait4)",
+        f"ru_maxrss (os.wait4)"
+        + (f"; {DEMO_CASE}: `make demo` in a fresh git clone of HEAD (venv and install from nothing, "
+           f"PIP_NO_CACHE_DIR=1, numba's cache empty), the clone itself not timed" if DEMO_CASE in cases else ""),
         "regenerate with: python benchmarks/first_render.py")
     fields = ["case", "scene", "cache", "width", "height", "repeats", "seconds_median", "seconds_min", "seconds_max",
               "cpu_seconds_median", "peak_rss_mb_median", "peak_rss_mb_min", "peak_rss_mb_max", "cache_mb_median",
