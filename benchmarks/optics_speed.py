@@ -18,9 +18,12 @@ Then ``spectrum_to_XYZ`` against ``colour.sd_to_XYZ`` per spectrum.
 Threads: the peers run single-threaded (pure Python and NumPy; OpenBLAS, which ``spectrum_to_XYZ``'s
 matrix product and any peer's would use, is held at one thread, :func:`blas_threads`), so ours is
 timed with one thread and with two (``numba.set_num_threads``; OpenBLAS likewise for
-``spectrum_to_XYZ``), both in every round beside the peers, on numba's workqueue threads
-(:func:`bubbleoptics.resources.prefer_workqueue_threads`).  Column ``threads`` says which; the
-like-for-like ratio is a peer's time over ours with one thread.
+``spectrum_to_XYZ``), both in every round beside the peers.  Column ``threads`` says which; the
+like-for-like ratio is a peer's time over ours with one thread.  numba runs on its default
+threading layer, what a caller of the library gets (the header names it; OpenMP here): on this
+machine (2026-12-04) the workqueue layer (:func:`bubbleoptics.resources.prefer_workqueue_threads`, the
+tracer's choice) lost most of its second thread whenever a peer had run in between (4.1 ms
+with two threads against 4.2 with one, where OpenMP's two took 2.2 ms in the same rounds).
 
 Spread: every row has the fastest and the slowest of its runs (``min_seconds``,
 ``max_seconds``; tmm: of its calls timed in :data:`TMM_BATCHES` batches, extrapolated alike).
@@ -179,9 +182,7 @@ def main(argv=None):
     from colour.phenomena import thin_film_tmm
 
     import bubbleoptics as bo
-    from bubbleoptics.resources import prefer_workqueue_threads
 
-    prefer_workqueue_threads()  # before the first parallel kernel
     blas_default = blas_threads()
     wl = np.linspace(380.0, 780.0, 81)
     theta = np.deg2rad(np.arange(90.0))
@@ -201,12 +202,14 @@ def main(argv=None):
                  max_abs_deviation_from_bubbleoptics=max_dev, note=note, paired=ratios)
         )
 
-    print(f"sweep: {wl.size} wavelengths x {theta.size} angles x {d.size} thicknesses = {n_evals:,} "
-          f"unpolarized reflectances; ours with {' and '.join(map(str, THREADS))} threads "
-          f"({numba.config.THREADING_LAYER} layer), the peers with one (OpenBLAS default {blas_default})")
-
     def ours():
         return bo.film_reflectance(wl[:, None, None], d, theta[None, :, None], n_water[:, None, None])
+
+    ours()  # compiles, and starts numba's threads
+    layer = numba.threading_layer()
+    print(f"sweep: {wl.size} wavelengths x {theta.size} angles x {d.size} thicknesses = {n_evals:,} "
+          f"unpolarized reflectances; ours with {' and '.join(map(str, THREADS))} threads "
+          f"(numba's {layer} layer), the peers with one (OpenBLAS default {blas_default})")
 
     n_stack = np.array([np.ones_like(wl), n_water, np.ones_like(wl)])
 
@@ -330,7 +333,7 @@ def main(argv=None):
     write_csv(args.out, rows,
               provenance("benchmarks/optics_speed.py",
                          f"bubbleoptics timed with {' and '.join(map(str, THREADS))} threads (column threads; "
-                         f"numba.set_num_threads, numba {numba.config.THREADING_LAYER} layer, and OpenBLAS), "
+                         f"numba.set_num_threads, numba's default {layer} threading layer, and OpenBLAS), "
                          "interleaved in the same rounds as the peers, which run single-threaded (OpenBLAS "
                          f"at 1 thread, its default here {blas_default})",
                          f"machine load average {load_before} before, {load_after} after (this process at niceness {os.nice(0)})",

@@ -164,9 +164,16 @@ def test_optics_numbers_come_from_the_csv(numbers):
     lines = [ln for ln in (DERIVED / "optics_speed.csv").read_text().splitlines() if not ln.startswith("#")]
     rows = list(csv.DictReader(lines))
     colour = next(r for r in rows if "thin_film_tmm" in r["implementation"])
-    ours = next(r for r in rows if r["case"] == "sweep" and r["implementation"].startswith("bubbleoptics"))
+    ours = {r["threads"]: r for r in rows if r["case"] == "sweep" and r["implementation"].startswith("bubbleoptics")}
+    assert sorted(ours) == ["1", "2"] and colour["threads"] == "1"  # ours with one and two threads, peers one
+    # like for like: the plain macros are ours with one thread and the peers' ratios to it
     assert number(numbers["SpeedupColour"]) == pytest.approx(float(colour["ratio_to_bubbleoptics"]), rel=0.01)
-    assert number(numbers["NsOurs"]) == pytest.approx(float(ours["ns_per_evaluation"]), rel=0.05)
+    assert number(numbers["NsOurs"]) == pytest.approx(float(ours["1"]["ns_per_evaluation"]), rel=0.05)
+    assert number(numbers["NsOursTwo"]) == pytest.approx(float(ours["2"]["ns_per_evaluation"]), rel=0.05)
+    assert number(numbers["SpeedupColourTwo"]) == pytest.approx(float(colour["ratio_to_bubbleoptics_2_threads"]),
+                                                                rel=0.01)
+    assert number(numbers["OursThreadSpeedup"]) == pytest.approx(float(ours["1"]["ratio_to_bubbleoptics_2_threads"]),
+                                                                 abs=0.06)
     assert "NumberNA" not in "".join(v for k, v in numbers.items() if k.startswith(("Sweep", "Ns", "Speedup")))
 
 
