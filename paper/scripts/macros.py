@@ -306,14 +306,3 @@ def to_float(text):
     except (TypeError, ValueError):
         return math.nan
 
-
-def thick_film_range_um(path):
-    """(thinnest, thickest) film in µm of a TOML scene's bubbles (uniform and draining films)."""
-    import tomllib
-
-    values = []
-    for b in tomllib.loads(path.read_text(encoding="utf-8")).get("bubbles", []):
-        film = b.get("film", {})
-        values += [float(film[k]) for k in ("thickness_nm", "top_nm", "bottom_nm") if k in film]
-    return min(values) / 1e3, max(values) / 1e3
-

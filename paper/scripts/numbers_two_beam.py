@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import re
 
-from macros import plain, read_commented_csv, significant, thick_film_range_um, up_to
+from macros import read_commented_csv, significant, up_to
+from numbers_time_vs_error import film_range_um
 
 SCENE_WORDS = {"builtin": "Builtin", "bubbles": "Bubbles", "thick": "Thick"}
 STATS = {"bubble_mean_de00": "Mean", "bubble_median_de00": "Median", "bubble_p95_de00": "Pninetyfive",
@@ -38,8 +39,9 @@ def two_beam_renders(dirs):
     if any(int(r["spectral_samples"]) != int(first["spectral_samples"]) or int(r["width"]) != int(first["width"])
            for r in by.values()):
         raise ValueError("the scenes were rendered with different settings")
-    lo, hi = thick_film_range_um(dirs["data"] / "scenes" / "thick_films.toml")
-    out["TbRThickFromUm"], out["TbRThickToUm"] = plain(lo), plain(hi)
+    # the films' thickness as the tracer computes it, swirl included (not the scene's top and bottom values)
+    lo, hi = film_range_um(dirs["data"] / "scenes" / "thick_films.toml")
+    out["TbRThickFromUm"], out["TbRThickToUm"] = significant(lo, 2), significant(hi, 2)
     m = re.search(r"on (\d{4}-\d{2}-\d{2})", notes[0])
     out["TbRDate"] = m.group(1) if m else r"\NumberNA{}"
     return out
