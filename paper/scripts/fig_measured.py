@@ -10,7 +10,8 @@ Reads ``data/measured/optifik_comparison.csv``, ``optifik_thinning.csv`` and ``o
 (a) Four spectra of the TTAB film in absolute reflectance (smoothed) and the exact reflectance of a
     water film of the fitted thickness (gain 1), offset by 0.08 each.
 (b) The thickness fitted by the exact optics against the authors' (fringe extrema, Scheludko), with
-    ±5 % about equality.
+    ±5 % about equality; triangles: the bubble's spectra (oospectro) against its stated thicknesses
+    (``oospectro_bubble_comparison.csv``, the same calibration and fit, n = 1.33).
 (c) The thickness against the acquisition index: the authors' and ours, and the fits of
     h1 [1 + (t - t1)/τ]^(-1/(ν-1)) to the authors' with the rate exponent ν free and held at 3
     and 5/2 (ν, not the paper's β, which is the optical phase).
@@ -67,9 +68,14 @@ def main(argv=None):
     ax_b.loglog(st[good], ft[good], "o", markersize=2.5, markerfacecolor="none", markeredgewidth=0.6,
                 label="200–800 nm")
     ax_b.loglog(st[~good], ft[~good], "x", markersize=3, markeredgewidth=0.6, label="outside")
+    _, comp = read_commented_csv(MEASURED / "oospectro_bubble_comparison.csv")
+    bs = np.array([float(r["stated_nm"]) for r in comp if r["stated_nm"]])
+    bf = np.array([float(r["fit_nm"]) for r in comp if r["stated_nm"]])
+    ax_b.loglog(bs, bf, "^", markersize=2.5, markerfacecolor="none", markeredgewidth=0.6, color="C2",
+                label="bubble")
     ax_b.set_xlim(60, 6000)
-    ax_b.set_ylim(30, 6000)
-    ax_b.set_xlabel("authors' thickness (nm)")
+    ax_b.set_ylim(15, 6000)
+    ax_b.set_xlabel("stated thickness (nm)")
     ax_b.set_ylabel("fitted thickness (nm)")
     ax_b.legend(loc="upper left", fontsize=7)
     ax_b.set_title("(b) thickness", loc="left")

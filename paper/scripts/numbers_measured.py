@@ -12,7 +12,12 @@
   fitted by the apex equation of this project's rigid-drainage model with evaporation,
   dh/dt = -c h^3 - q_e (c = ρg/(6μR)), and by its parts; written by this module run as a script
   (``python paper/scripts/numbers_measured.py``, :func:`write_bubble_fits`, seconds), read back by
-  the plug-in and by ``fig_measured.py``.
+  the plug-in and by ``fig_measured.py``;
+* ``measuredbubbleoptics``: ``data/measured/oospectro_bubble_comparison.csv`` (``--spectra DIR``,
+  :func:`write_bubble_comparison`, half a minute; the spectra are not in this repository): the
+  bubble's spectra against the exact optics as the optifik film's, the agreement with the stated
+  thickness from 200 nm up and how many of all the spectra before index 75000 fit a film thinner
+  than 150 nm (failures: every stated thickness there is above 390 nm).
 
 Bounds are rounded outward (``MeasAgreeMaxPct`` and ``MeasRmsMax`` up, ``MeasThinMinPct``/``MeasThinMaxPct``
 away from zero; :func:`macros.up_to`, :func:`macros.at_least`), so that "within X %", "at most X" and
@@ -243,6 +248,78 @@ def write_bubble_fits(data_dir):
     return rows
 
 
+#: The spectra of the series: the film is there from index 12000 to 85000 (the mean intensity over
+#: 450-800 nm jumps at both ends); from 88000 on the spectra are flat and constant (mean within 1 %),
+#: the film gone: their mean is the "no film" background.
+BUBBLE_FILM_FROM, BUBBLE_FILM_TO, BUBBLE_VOID_FROM = 12000, 85000, 88000
+#: The index the source states for the film (``refractive_index`` of ``known_values.py``).
+BUBBLE_INDEX = 1.33
+#: The spectra compared with the optics, written by ``numbers_measured.py --spectra DIR``.
+BUBBLE_COMPARISON = "oospectro_bubble_comparison.csv"
+
+
+def bubble_spectra(source_dir):
+    """``(wavelength_nm, void, times, intensities)`` of the series in *source_dir* (the folder
+    ``spectra/20150611_Bulle6_TTAB10cmc`` of oospectro), cut to :data:`study.measured.FIT_BAND_NM`:
+    the spectra of the film (:data:`BUBBLE_FILM_FROM` to :data:`BUBBLE_FILM_TO`) and the mean of
+    those after :data:`BUBBLE_VOID_FROM` as the background."""
+    from study.measured import load_spectrum
+
+    paths_ = sorted(Path(source_dir).glob("*.xy"))
+    if not paths_:
+        raise FileNotFoundError(f"no .xy spectra in {source_dir}")
+    times = np.array([int(p_.stem) for p_ in paths_])
+    wl = load_spectrum(paths_[0])[0]
+    stack = []
+    for p_ in paths_:
+        w, y = load_spectrum(p_)
+        if w.shape != wl.shape or not np.allclose(w, wl):
+            raise ValueError(f"{p_}: not on the grid of {paths_[0].name}")
+        stack.append(y)
+    stack = np.array(stack)
+    void = stack[times >= BUBBLE_VOID_FROM].mean(axis=0)
+    film = (times >= BUBBLE_FILM_FROM) & (times < BUBBLE_FILM_TO)
+    return wl, void, times[film], stack[film]
+
+
+def compare_bubble_spectra(source_dir, stated_csv):
+    """Every spectrum of the film against the exact optics, as the optifik series
+    (:func:`study.measured.compare_optifik`): in absolute reflectance through the series' envelope,
+    the thickness fitted with the gain held at 1, for the source's index (1.33) and for water."""
+    from study.measured import calibrated_reflectance, fit_thickness, lamp_envelope, rms_at_thickness, smooth
+
+    wl, void, times, stack = bubble_spectra(source_dir)
+    env = lamp_envelope(stack, void)
+    _, st = read_commented_csv(stated_csv)
+    stated = {int(r["time_index"]): float(r["stated_nm"]) for r in st}
+    rows = []
+    for t, y in zip(times, stack):
+        r = smooth(calibrated_reflectance(wl, y, void, env))
+        fit = fit_thickness(wl, r, gain=1.0, n_film=BUBBLE_INDEX)
+        water = fit_thickness(wl, r, gain=1.0)
+        h = stated.get(int(t), math.nan)
+        at = rms_at_thickness(wl, r, h, gain=1.0, n_film=BUBBLE_INDEX)[0] if math.isfinite(h) else math.nan
+        rows.append({"time_index": int(t), "stated_nm": h, "fit_nm": fit.thickness_nm, "fit_water_nm": water.thickness_nm,
+                     "rms_fit": fit.rms, "rms_at_stated": at, "peak_reflectance": float(np.max(r))})
+    return rows
+
+
+def write_bubble_comparison(source_dir, data_dir):
+    from study import provenance, write_csv
+
+    data_dir = Path(data_dir)
+    rows = compare_bubble_spectra(source_dir, data_dir / BUBBLE_STATED)
+    head = [provenance("paper/scripts/numbers_measured.py",
+                       "regenerate with: python paper/scripts/numbers_measured.py --spectra DIR (DIR: the folder "
+                       "spectra/20150611_Bulle6_TTAB10cmc of github.com/sciunto-org/oospectro at tag v0.4.0)"),
+            f"the spectra of index {BUBBLE_FILM_FROM} to {BUBBLE_FILM_TO}; background: the mean of those from "
+            f"{BUBBLE_VOID_FROM} on; absolute reflectance through the series' envelope; 450-800 nm, smoothed",
+            f"fit_nm: exact free-film reflectance at normal incidence, gain 1, n = {BUBBLE_INDEX} (the source's); "
+            "fit_water_nm: water after Daimon & Masumura; rms in reflectance; stated_nm: the source's, where stated"]
+    write_csv(data_dir / BUBBLE_COMPARISON, rows, head, float_format="{:.6g}", na_rep="")
+    return rows
+
+
 def bubble(dirs):
     _, rows = read_commented_csv(dirs["data"] / "measured" / BUBBLE_FITS)
     _, files = read_commented_csv(dirs["data"] / "measured" / BUBBLE_FILE_INDEX)
@@ -273,6 +350,35 @@ def bubble(dirs):
     }
 
 
+def bubble_optics(dirs):
+    _, rows = read_commented_csv(dirs["data"] / "measured" / BUBBLE_COMPARISON)
+    st = [r for r in rows if r["stated_nm"]]
+    h = np.array([float(r["stated_nm"]) for r in st])
+    rel = np.array([float(r["fit_nm"]) / float(r["stated_nm"]) - 1 for r in st])
+    thick = h >= THIN_BELOW_NM
+    good = thick & (np.abs(rel) <= 0.1)
+    t = np.array([int(r["time_index"]) for r in rows])
+    fit = np.array([float(r["fit_nm"]) for r in rows])
+    early = t < BUBBLE_THIN_FROM
+    return {
+        "MeasBubOptN": str(int(thick.sum())),
+        "MeasBubOptGood": str(int(good.sum())),
+        "MeasBubOptMaxPct": _up(100 * np.max(np.abs(rel[good]))),
+        "MeasBubOptMedianPct": significant(100 * np.median(rel[good]), 1, 1),
+        "MeasBubOptAll": str(int(early.sum())),
+        "MeasBubOptAllThin": str(int(np.sum(fit[early] < BUBBLE_THIN_FIT_NM))),
+        "MeasBubOptThinNm": up_to(float(BUBBLE_THIN_FIT_NM), 2),
+        "MeasBubOptAboveNm": at_least(float(np.min(h[np.array([int(r["time_index"]) for r in st]) < BUBBLE_THIN_FROM])), 2),
+    }
+
+
+#: Before this index every stated thickness is above 390 nm (``MeasBubOptAboveNm``); a fit below
+#: BUBBLE_THIN_FIT_NM there is a failure.
+BUBBLE_THIN_FROM, BUBBLE_THIN_FIT_NM = 75000, 150
+
+BUBBLE_OPTICS_MACROS = ["MeasBubOptN", "MeasBubOptGood", "MeasBubOptMaxPct", "MeasBubOptMedianPct", "MeasBubOptAll",
+                        "MeasBubOptAllThin", "MeasBubOptThinNm", "MeasBubOptAboveNm"]
+
 BUBBLE_MACROS = ["MeasBubN", "MeasBubFirstNm", "MeasBubLastNm", "MeasBubSpanS", "MeasBubRmsBoth", "MeasBubRmsMr",
                  "MeasBubRmsDry", "MeasBubRmsEvap", "MeasBubQe", "MeasBubQeLow", "MeasBubQeHigh", "MeasBubQeMr",
                  "MeasBubRadiusMm", "MeasBubCmc", "MeasBubLevel", "MeasBubFiles", "MeasBubStepMin", "MeasBubStepMax",
@@ -282,12 +388,17 @@ SECTIONS = {
     "measured": (["measured/optifik_comparison.csv"], comparison, COMPARISON_MACROS),
     "measuredthinning": (["measured/optifik_thinning.csv"], thinning, THINNING_MACROS),
     "measuredbubble": ([f"measured/{BUBBLE_FITS}", f"measured/{BUBBLE_FILE_INDEX}"], bubble, BUBBLE_MACROS),
+    "measuredbubbleoptics": ([f"measured/{BUBBLE_COMPARISON}"], bubble_optics, BUBBLE_OPTICS_MACROS),
 }
 
 
 if __name__ == "__main__":
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     import paths
+
+    if len(sys.argv) == 3 and sys.argv[1] == "--spectra":
+        rows = write_bubble_comparison(sys.argv[2], paths.DATA / "measured")
+        print(f"wrote {BUBBLE_COMPARISON}: {len(rows)} spectra")
 
     for r in write_bubble_fits(paths.DATA / "measured"):
         print(f"{r['law']}: rms_log {r['rms_log']:.4f}, q_e {r['q_e_m_per_s']:.3g} m/s, "

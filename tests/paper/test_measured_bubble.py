@@ -100,3 +100,15 @@ def test_the_stored_fit_is_reproduced(nm):
     assert math.isclose(fit["q"], float(row["q_e_m_per_s"]), rel_tol=1e-4)
     assert math.isclose(fit["rms_log"], float(row["rms_log"]), rel_tol=1e-4)
     assert float(row["q_e_low"]) < fit["q"] < float(row["q_e_high"])
+
+
+@pytest.mark.api
+def test_the_optics_comparison_has_the_stated_spectra(nm, stated):
+    """Every stated spectrum is in the optics comparison, with the stated thickness copied right,
+    and every compared spectrum lies in the film's window of the series."""
+    rows = nm.read_commented_csv(MEASURED / nm.BUBBLE_COMPARISON)[1]
+    by_index = {int(r["time_index"]): r for r in rows}
+    for r in stated:
+        assert float(by_index[int(r["time_index"])]["stated_nm"]) == float(r["stated_nm"])
+    assert sum(1 for r in rows if r["stated_nm"]) == len(stated)
+    assert all(nm.BUBBLE_FILM_FROM <= t < nm.BUBBLE_FILM_TO for t in by_index)
