@@ -393,7 +393,6 @@ SECTIONS = {
 
 
 if __name__ == "__main__":
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
     import paths
 
     if len(sys.argv) == 3 and sys.argv[1] == "--spectra":
