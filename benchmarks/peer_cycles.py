@@ -287,6 +287,22 @@ def sphere_paths(size=SIZE, fov_deg=FOV_DEG, distance=4.0, radius=RADIUS, depth=
     return hit, cos, refl, np.array(outs)
 
 
+def fill_bubble(image, hit, refl, outs, R, light, to_rgb):
+    """Write the bubble's pixels of *image* in place and return it: the first reflection
+    ``R L(refl)`` plus the light through the film after k internal reflections,
+    ``T^2 R^k L(v_k)`` (T = 1 - R, a lossless film), in the channels of *R* (P, C), then
+    ``@ to_rgb.T``; *light(dirs)* is the environment in those channels, *refl* and *outs* as
+    :func:`sphere_paths` returns them."""
+    T = 1.0 - R
+    radiance = R * light(refl[hit])
+    weight = T * T
+    for k in range(outs.shape[0]):
+        radiance = radiance + weight * light(outs[k][hit])
+        weight = weight * R
+    image[hit] = radiance @ to_rgb.T
+    return image
+
+
 def model_image(model, thickness_nm, n_film=FILM_N, size=SIZE, depth=DEPTH, bands=REF_BANDS):
     """Closed-form image (size, size, 3) of the bubble for one reflectance *model*:
     ``"exact"``, ``"cut"`` (spectral, our colour pipeline: the tracer's channel_setup, bands,
@@ -318,14 +334,7 @@ def model_image(model, thickness_nm, n_film=FILM_N, size=SIZE, depth=DEPTH, band
         light = environment_radiance
     else:
         raise ValueError(f"unknown model {model!r}")
-    T = 1.0 - R
-    radiance = R * light(refl[hit])
-    weight = T * T
-    for k in range(outs.shape[0]):
-        radiance = radiance + weight * light(outs[k][hit])
-        weight = weight * R
-    image[hit] = radiance @ to_rgb.T
-    return image
+    return fill_bubble(image, hit, refl, outs, R, light, to_rgb)
 
 
 # ---------------------------------------------------------------------------------------------

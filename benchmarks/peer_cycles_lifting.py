@@ -102,14 +102,7 @@ def closed_form(table, thickness_nm, size, model="spectral", n_film=pc.FILM_N, d
     def light(dirs):
         return table[row_index(dirs, table.shape[0])]
 
-    T = 1.0 - R
-    radiance = R * light(refl[hit])
-    weight = T * T
-    for k in range(outs.shape[0]):
-        radiance = radiance + weight * light(outs[k][hit])
-        weight = weight * R
-    image[hit] = radiance @ to_rgb.T
-    return image
+    return pc.fill_bubble(image, hit, refl, outs, R, light, to_rgb)
 
 
 @contextlib.contextmanager
