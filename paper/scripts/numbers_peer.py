@@ -115,14 +115,13 @@ def peer(dirs):
                 low, high = ratio_range(at["MitsubaStratified"], at[key], metric)
                 out[f"PeerRange{tag}{key}{suffix}Low"] = significant(low, 2)
                 out[f"PeerRange{tag}{key}{suffix}High"] = significant(high, 2)
-        # 1 -> 2 threads: each renderer's speed-up at its largest sample count
-        if threads == min(PEER_THREADS):
-            two = peer_curves(sweep, max(PEER_THREADS))
-            for key in ("OursExhaustive", "MitsubaStratified", "MitsubaScalar"):
-                spp = min(int(at[key][-1]["spp"]), int(two[key][-1]["spp"]))
-                one_t = next(float(r["seconds"]) for r in at[key] if int(r["spp"]) == spp)
-                two_t = next(float(r["seconds"]) for r in two[key] if int(r["spp"]) == spp)
-                out[f"PeerSpeedup{key}"] = significant(one_t / two_t, 2)
+    # 1 -> 2 threads: each renderer's speed-up at the largest sample count both curves have
+    one = peer_curves(sweep, min(PEER_THREADS))
+    for key in ("OursExhaustive", "MitsubaStratified", "MitsubaScalar"):
+        spp = min(int(one[key][-1]["spp"]), int(curves[key][-1]["spp"]))
+        one_t = next(float(r["seconds"]) for r in one[key] if int(r["spp"]) == spp)
+        two_t = next(float(r["seconds"]) for r in curves[key] if int(r["spp"]) == spp)
+        out[f"PeerSpeedup{key}"] = significant(one_t / two_t, 2)
     # what the curves are made of: seconds per sample per pixel, and samples needed for the target
     per_spp = {k: float(c[-1]["seconds"]) / int(c[-1]["spp"]) for k, c in curves.items()}
     out["PeerSampleCostRatio"] = significant(per_spp["OursExhaustive"] / per_spp["MitsubaStratified"], 2)
