@@ -14,7 +14,7 @@ repeats), beside the seconds and rays per second.  Cases, all 960x960 at one sam
 
 * ``empty``: no objects, a constant environment (RGB transport);
 * ``coursework_{1,2,3}_bubbles`` at depth 1 and 10: the scenes of the coursework's table 4.1
-  (``data/scenes/seed_*.txt``), defaults otherwise;
+  (``data/scenes/coursework_{one,two,three}_bubble*.txt``), defaults otherwise;
 * ``builtin``: ``tracer.default_scene()`` at the defaults (what ``make demo`` renders).
 
 Every case runs with 1 and with 2 threads (``numba.set_num_threads``), and so do the floor

@@ -32,7 +32,7 @@ Ray counts per row (``counts``): camera, reflected, transmitted, shadow
 Speed (docs/performance.md): a camera ray that misses everything is resolved in the pixel
 loop itself (one intersection test and an environment lookup, converted to RGB by
 ``rgb_round_trip``), so empty parts of the image cost about what a minimal kernel costs.  The
-per-ray code (:func:`render_row` and what it inlines) is compiled without numba's reference
+per-ray code (:func:`render_rows` and what it inlines) is compiled without numba's reference
 counting, and the helpers that take the scene or the workspace are inlined
 (``inline="always"``): a non-inlined call copies those tuples of arrays.  A ray that enters a
 sphere carries the cosine it entered with (chords meet both ends at one angle), which lets the
@@ -48,10 +48,11 @@ from bubbleoptics.jit import JIT, JIT_INLINE, JIT_NO_NRT
 
 from bubbleoptics.kernels import N_FILM_COEFFICIENTS
 
-from . import surfaces
+from .surfaces import (film_scatter, film_shadow, film_toward_light, phong_ambient, phong_scatter, phong_shadow,
+                       phong_toward_light)
 from .environment import environment_rgb
 from .geometry import intersect_bvh, intersect_sphere, offset_origin, shading_normal, sphere_hit_point
-from .records import FALLOFF_INVERSE_SQUARE
+from .records import FALLOFF_INVERSE_SQUARE, SURFACE_FILM
 from .sampling import camera_ray, cone_sample, orthonormal_basis, sample_key, stratified_offset
 
 __all__ = [
@@ -67,7 +68,6 @@ __all__ = [
     "shadow_transmittance",
     "shadow_along",
     "sphere_light",
-    "render_row",
     "render_rows",
     "scene_features",
     "FEATURES",
@@ -101,12 +101,12 @@ class Workspace(NamedTuple):
     stack_chord: np.ndarray  # (S,) cos(theta) at the chord's start (its end meets it the same)
     stack_skip: np.ndarray  # (S,) int64: the sphere the ray leaves outward (-1: none)
     w: np.ndarray  # (C,) the current ray's throughput
-    wr: np.ndarray  # (C,) mirror child's weight (surfaces.scatter)
+    wr: np.ndarray  # (C,) mirror child's weight (a surface model's scatter)
     wt: np.ndarray  # (C,) transmitted child's weight
     cut_r: np.ndarray  # (C,) cut factors of the two children
     cut_t: np.ndarray
     child: np.ndarray  # (C,) a child's throughput
-    light_w: np.ndarray  # (C,) surfaces.toward_light
+    light_w: np.ndarray  # (C,) a surface model's answer toward a light
     trans: np.ndarray  # (C,) shadow-ray transmittance
     R_shadow: np.ndarray  # (C,) a film crossed by a shadow ray
     T_shadow: np.ndarray
@@ -290,7 +290,14 @@ def shadow_along(scene, ws, p, d, dist, trans, mesh, film, phong, xfilm):
             return True
         skind, sidx, q, n = surface_at(scene, kind, idx, p, d, t, mesh)
         cos_i = abs(d[0] * n[0] + d[1] * n[1] + d[2] * n[2])
-        if not surfaces.shadow(scene, ws, skind, sidx, n, cos_i, entering, trans, film, phong, xfilm):
+        # the surface model of the hit, chosen here (not in a helper): see the note on FEATURES
+        if film is not None and (phong is None or skind == SURFACE_FILM):
+            passes = film_shadow(scene, ws, sidx, n, cos_i, entering, trans, xfilm)
+        elif phong is not None:
+            passes = phong_shadow(scene, ws, sidx, n, cos_i, entering, trans)
+        else:
+            passes = True
+        if not passes:
             return False
         tstart = t + scene.eps
         alive = False
@@ -310,7 +317,7 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, v
     stratified uniformly over the cone of half-angle α that the sphere subtends
     (:class:`tracer.scene.PointLight` gives the radiometry and sources).
 
-    f(ω_k) is the surface's answer to :func:`tracer.kernels.surfaces.toward_light` with N·L and R·V
+    f(ω_k) is the surface model's answer toward a light (:mod:`tracer.kernels.surfaces`) with N·L and R·V
     of the direction ω_k (diffuse, Phong and film highlights alike), V(ω_k) the transmittance
     of a shadow ray from *p_front* along ω_k to where it meets the sphere's near side.  A
     point inside the sphere (or on it) samples the whole sphere of directions, whose weight is
@@ -360,7 +367,13 @@ def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, v
     for k in range(n):
         om = cone_sample(key, stream, k, n, axis, b1, b2, one_minus_cos)
         ndl, rv = direction_terms(om, nf, d)
-        if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w, film, phong):
+        if film is not None and (phong is None or skind == SURFACE_FILM):
+            lit = film_toward_light(scene, ws, sidx, hit, ndl, rv, light_w)
+        elif phong is not None:
+            lit = phong_toward_light(scene, ws, sidx, hit, ndl, rv, light_w)
+        else:
+            lit = False
+        if not lit:
             continue
         if threshold > 0.0:
             bound = 0.0
@@ -415,182 +428,6 @@ def _child(scene, ws, sp, L, o, d, weight, cut, gen, depth, threshold, counter, 
     return sp
 
 
-@njit(**JIT_NO_NRT)
-def render_row(scene, ws, y, row0, width, height, spp, seed, depth, threshold, image, counts, spectrum, mesh, area, film, phong, xfilm):
-    """Render image row *y* into row ``y - row0`` of *image*, *counts* and *spectrum* (see
-    :func:`render_rows`) with the thread's workspace *ws*.
-
-    Each camera sample's nearest hit is found here; a miss is the environment, straight to RGB;
-    a hit starts the ray tree, walked depth first on the workspace's stack: at every hit the
-    surface gives the two children (:func:`tracer.kernels.surfaces.scatter`), its ambient term
-    and what it sends toward each light (with a shadow ray), and the children are pushed
-    (:func:`_child`) or cut and ended with the environment.
-
-    Chords: a ray that enters a sphere, or is reflected inside one, runs along a chord and
-    meets the sphere again at the angle it started with.  Such a child carries that cosine, and
-    when its next hit is that sphere the surface is evaluated at exactly that cosine (rather
-    than the one recomputed from a hit point moved by the ray-origin offset), which keeps the
-    chord property exact and lets the film reuse its set-up (:mod:`tracer.kernels.surfaces.soap_film`).
-
-    The tree is written here rather than in a function of its own: numba's ``inline="always"``
-    copies a callee's IR, with all it inlines, into its caller, so every level of inlining
-    copies everything below it once more.  Written in the pixel loop, the tree is copied once
-    less, which cut the first compile of the built-in scene by about a fifth and its memory by
-    two fifths (docs/performance.md); the warm kernel is the same code."""
-    cam = scene.camera[0]
-    env = scene.environment[0]
-    o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
-    M = scene.rgb_round_trip
-    to_rgb = scene.to_rgb
-    basis = scene.rgb_basis
-    L = ws.L
-    w = ws.w
-    nc = L.shape[0]
-    stack_o = ws.stack_o
-    stack_d = ws.stack_d
-    stack_w = ws.stack_w
-    light_w = ws.light_w
-    trans = ws.trans
-    rad = scene.light_radiance
-    eps = scene.eps
-    lights = scene.lights
-    cancel = ws.cancel
-    ray_counts = ws.counts
-    iy = y - row0  # the row's place in the output arrays
-    for i in range(N_COUNTS):  # the row's ray counts, from zero
-        ray_counts[i] = 0
-    for x in range(width):
-        if cancel[0] != 0:
-            break
-        pix = y * width + x
-        r = 0.0
-        g = 0.0
-        b = 0.0
-        if spectrum is not None:  # (None: pruned when compiled)
-            for c in range(nc):
-                spectrum[iy, x, c] = 0.0
-        for s in range(spp):
-            fx, fy = stratified_offset(seed, pix, s, spp)
-            d0 = camera_ray(cam, x + fx, y + fy, width, height)
-            ray_counts[0] += 1
-            hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf, -1, mesh)
-            if hit0[0] == GEOM_NONE:
-                # a camera ray that meets nothing: the environment, straight to RGB
-                er, eg, eb = environment_rgb(env, scene.env_image, d0)
-                r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
-                g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
-                b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
-                if spectrum is not None:  # the channels the RGB above came from (M = to_rgb @ basis)
-                    for c in range(nc):
-                        spectrum[iy, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
-                continue
-            # the camera ray's tree (see the docstring)
-            key = sample_key(seed, pix, s)
-            for c in range(nc):
-                L[c] = 0.0
-                ws.child[c] = 1.0
-            sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0, -1)
-            first = True
-            vertex = 0  # hits so far in this camera ray's tree (a spherical light's sample stream)
-            while sp > 0:
-                if cancel[0] != 0:
-                    break  # cancelled (Ctrl-C): the caller discards the image
-                sp -= 1
-                o = (stack_o[sp, 0], stack_o[sp, 1], stack_o[sp, 2])
-                d = (stack_d[sp, 0], stack_d[sp, 1], stack_d[sp, 2])
-                gen = ws.stack_gen[sp]
-                inside = ws.stack_inside[sp]
-                chord = ws.stack_chord[sp]
-                skip = ws.stack_skip[sp]
-                for c in range(nc):
-                    w[c] = stack_w[sp, c]  # the stack slot is reused by the children
-                if first:
-                    kind, idx, t, entering = hit0
-                    first = False
-                else:
-                    kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip, mesh)
-                if kind == GEOM_NONE:
-                    add_environment(scene, L, w, ws.ones, d)
-                    continue
-                skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t, mesh)
-                dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
-                cos_g = abs(dn)  # geometric cos(theta), for directions
-                sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
-                nf = (sgn * n[0], sgn * n[1], sgn * n[2])
-                nfo = offset_normal(scene, kind, idx, nf, sgn, mesh)  # the geometric side, for ray origins
-                on_sphere = kind == GEOM_SPHERE
-                cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
-                hit = (p, n, nf, d, cos_i, entering)
-                tdir = surfaces.scatter(scene, ws, skind, sidx, hit, film, phong, xfilm)
-                p_front = offset_origin(p, nfo, eps)
-                # local terms: ambient and the lights
-                surfaces.ambient(scene, skind, sidx, w, L, film, phong)
-                for j in range(lights.shape[0]):
-                    lt = lights[j]
-                    lp = lt.position
-                    lpos = (lp[0], lp[1], lp[2])
-                    if area is not None and lt.radius > 0.0:  # (no spherical lights: pruned when compiled)
-                        sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold,
-                                     mesh, film, phong, xfilm)
-                        continue
-                    scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" leaves it unchanged
-                    if lt.falloff == FALLOFF_INVERSE_SQUARE:
-                        r2 = (lpos[0] - p[0]) ** 2 + (lpos[1] - p[1]) ** 2 + (lpos[2] - p[2]) ** 2
-                        if not r2 > _R2_MIN:
-                            continue  # a light on the surface lights nothing (light_terms) and makes no inf
-                        scale = 1.0 / r2
-                    ndl, rv = light_terms(lpos, p, nf, d)
-                    if not surfaces.toward_light(scene, ws, skind, sidx, hit, ndl, rv, light_w, film, phong):
-                        continue
-                    if threshold > 0.0:
-                        bound = 0.0
-                        for c in range(nc):
-                            bound = max(bound, w[c] * light_w[c] * (rad[j, c] * scale))
-                        if bound <= threshold:
-                            continue  # this light can add at most `threshold` here: pruned
-                    if shadow_transmittance(scene, ws, p_front, lpos, trans, mesh, film, phong, xfilm):
-                        for c in range(nc):
-                            L[c] += w[c] * light_w[c] * (rad[j, c] * scale) * trans[c]
-                vertex += 1
-                # children: transmitted first (deeper in the stack), reflected on top; on a sphere the
-                # one that ends up inside runs along a chord
-                p_back = offset_origin(p, nfo, -eps)
-                refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
-                # (on a sphere the one that ends up outside leaves it for good: it need not be tested)
-                t_inside = -1
-                t_chord = 0.0
-                t_skip = -1
-                r_inside = -1
-                r_skip = -1
-                if on_sphere and entering:
-                    t_inside = idx
-                    t_chord = cos_i if (tdir[0] == d[0] and tdir[1] == d[1] and tdir[2] == d[2]) else \
-                        abs(tdir[0] * n[0] + tdir[1] * n[1] + tdir[2] * n[2])
-                    r_skip = idx
-                elif on_sphere:
-                    r_inside = idx
-                    t_skip = idx
-                sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord,
-                            t_skip)
-                sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i,
-                            r_skip)
-            for c in range(nc):
-                r += to_rgb[0, c] * L[c]
-                g += to_rgb[1, c] * L[c]
-                b += to_rgb[2, c] * L[c]
-            if spectrum is not None:
-                for c in range(nc):
-                    spectrum[iy, x, c] += L[c]
-        image[iy, x, 0] = r / spp
-        image[iy, x, 1] = g / spp
-        image[iy, x, 2] = b / spp
-        if spectrum is not None:
-            for c in range(nc):
-                spectrum[iy, x, c] /= spp
-    for i in range(N_COUNTS):
-        counts[iy, i] = ray_counts[i]
-
-
 #: The features a scene may use, in the order :func:`render_rows` takes their flags.  Each flag is
 #: None when the scene has no such feature, and numba then compiles the render without its code
 #: (the same pruning as ``spectrum=None``): a first render compiles only what its scene uses, and
@@ -626,7 +463,7 @@ def scene_features(scene) -> tuple:
     return tuple(True if on else None for on in flags)
 
 
-@njit(nogil=True, **JIT)
+@njit(nogil=True, **JIT_NO_NRT)
 def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, height, spp, seed, depth, threshold, image, counts,
                 spectrum, ws, mesh, area, film, phong, xfilm):
     """Render the rows ``rows`` (int64, distinct, any order, each from *row0* to
@@ -659,10 +496,193 @@ def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, heigh
     (docs/performance.md).  Rows are independent (each sample's jitter is a hash of seed,
     pixel and sample, and the films' kept set-ups are pure functions of their key), so any
     split of the rows over calls, tasks and threads gives the same image.
+
+    Per pixel: each camera sample's nearest hit is found in the pixel loop; a miss is the
+    environment, straight to RGB; a hit starts the ray tree, walked depth first on the
+    workspace's stack: at every hit the surface model (:mod:`tracer.kernels.surfaces`) gives the
+    two children, its ambient term and what it sends toward each light (with a shadow ray),
+    and the children are pushed (:func:`_child`) or cut and ended with the environment.
+
+    Chords: a ray that enters a sphere, or is reflected inside one, runs along a chord and
+    meets the sphere again at the angle it started with.  Such a child carries that cosine, and
+    when its next hit is that sphere the surface is evaluated at exactly that cosine (rather
+    than the one recomputed from a hit point moved by the ray-origin offset), which keeps the
+    chord property exact and lets the film reuse its set-up (:mod:`tracer.kernels.surfaces.soap_film`).
+
+    The loops over tasks, rows, pixels and the tree are one function: numba's
+    ``inline="always"`` copies a callee's IR, with all it inlines, into its caller, so every
+    level of inlining copies everything below it once more, and a separately compiled callee
+    is optimised by LLVM again when it is linked into its caller.  Measured on the first
+    compile (docs/performance.md); the warm kernel is the same code.
     """
-    n = rows.shape[0]
-    n_tasks = (n + rows_per_task - 1) // rows_per_task
+    n_rows = rows.shape[0]
+    n_tasks = (n_rows + rows_per_task - 1) // rows_per_task
     for task in range(task0, n_tasks, task_step):
-        for k in range(task * rows_per_task, min(n, (task + 1) * rows_per_task)):
-            render_row(scene, ws, rows[k], row0, width, height, spp, seed, depth, threshold, image, counts, spectrum,
-                       mesh, area, film, phong, xfilm)
+        for k in range(task * rows_per_task, min(n_rows, (task + 1) * rows_per_task)):
+            y = rows[k]
+            cam = scene.camera[0]
+            env = scene.environment[0]
+            o0 = (cam.origin[0], cam.origin[1], cam.origin[2])
+            M = scene.rgb_round_trip
+            to_rgb = scene.to_rgb
+            basis = scene.rgb_basis
+            L = ws.L
+            w = ws.w
+            nc = L.shape[0]
+            stack_o = ws.stack_o
+            stack_d = ws.stack_d
+            stack_w = ws.stack_w
+            light_w = ws.light_w
+            trans = ws.trans
+            rad = scene.light_radiance
+            eps = scene.eps
+            lights = scene.lights
+            cancel = ws.cancel
+            ray_counts = ws.counts
+            iy = y - row0  # the row's place in the output arrays
+            for i in range(N_COUNTS):  # the row's ray counts, from zero
+                ray_counts[i] = 0
+            for x in range(width):
+                if cancel[0] != 0:
+                    break
+                pix = y * width + x
+                r = 0.0
+                g = 0.0
+                b = 0.0
+                if spectrum is not None:  # (None: pruned when compiled)
+                    for c in range(nc):
+                        spectrum[iy, x, c] = 0.0
+                for s in range(spp):
+                    fx, fy = stratified_offset(seed, pix, s, spp)
+                    d0 = camera_ray(cam, x + fx, y + fy, width, height)
+                    ray_counts[0] += 1
+                    hit0 = closest_hit(scene, ws, o0, d0, 0.0, np.inf, -1, mesh)
+                    if hit0[0] == GEOM_NONE:
+                        # a camera ray that meets nothing: the environment, straight to RGB
+                        er, eg, eb = environment_rgb(env, scene.env_image, d0)
+                        r += M[0, 0] * er + M[0, 1] * eg + M[0, 2] * eb
+                        g += M[1, 0] * er + M[1, 1] * eg + M[1, 2] * eb
+                        b += M[2, 0] * er + M[2, 1] * eg + M[2, 2] * eb
+                        if spectrum is not None:  # the channels the RGB above came from (M = to_rgb @ basis)
+                            for c in range(nc):
+                                spectrum[iy, x, c] += basis[c, 0] * er + basis[c, 1] * eg + basis[c, 2] * eb
+                        continue
+                    # the camera ray's tree (see the docstring)
+                    key = sample_key(seed, pix, s)
+                    for c in range(nc):
+                        L[c] = 0.0
+                        ws.child[c] = 1.0
+                    sp = _push(ws, 0, o0, d0, ws.child, 1, -1, 0.0, -1)
+                    first = True
+                    vertex = 0  # hits so far in this camera ray's tree (a spherical light's sample stream)
+                    while sp > 0:
+                        if cancel[0] != 0:
+                            break  # cancelled (Ctrl-C): the caller discards the image
+                        sp -= 1
+                        o = (stack_o[sp, 0], stack_o[sp, 1], stack_o[sp, 2])
+                        d = (stack_d[sp, 0], stack_d[sp, 1], stack_d[sp, 2])
+                        gen = ws.stack_gen[sp]
+                        inside = ws.stack_inside[sp]
+                        chord = ws.stack_chord[sp]
+                        skip = ws.stack_skip[sp]
+                        for c in range(nc):
+                            w[c] = stack_w[sp, c]  # the stack slot is reused by the children
+                        if first:
+                            kind, idx, t, entering = hit0
+                            first = False
+                        else:
+                            kind, idx, t, entering = closest_hit(scene, ws, o, d, 0.0, np.inf, skip, mesh)
+                        if kind == GEOM_NONE:
+                            add_environment(scene, L, w, ws.ones, d)
+                            continue
+                        skind, sidx, p, n = surface_at(scene, kind, idx, o, d, t, mesh)
+                        dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
+                        cos_g = abs(dn)  # geometric cos(theta), for directions
+                        sgn = -1.0 if dn > 0.0 else 1.0  # nf = sgn * n faces the incoming ray
+                        nf = (sgn * n[0], sgn * n[1], sgn * n[2])
+                        nfo = offset_normal(scene, kind, idx, nf, sgn, mesh)  # the geometric side, for ray origins
+                        on_sphere = kind == GEOM_SPHERE
+                        cos_i = chord if (on_sphere and idx == inside) else cos_g  # for the surface's optics
+                        hit = (p, n, nf, d, cos_i, entering)
+                        # the hit's surface model, chosen here by kind behind the feature flags (see the note
+                        # on FEATURES): its two children's weights into ws.wr, ws.wt, and the transmitted direction
+                        if film is not None and (phong is None or skind == SURFACE_FILM):
+                            tdir = film_scatter(scene, ws, sidx, hit, xfilm)
+                        elif phong is not None:
+                            tdir = phong_scatter(scene, ws, sidx, hit)
+                        else:
+                            tdir = d
+                        p_front = offset_origin(p, nfo, eps)
+                        # local terms: ambient and the lights
+                        if phong is not None and (film is None or skind != SURFACE_FILM):
+                            phong_ambient(scene, sidx, w, L)  # (a film has no ambient term)
+                        for j in range(lights.shape[0]):
+                            lt = lights[j]
+                            lp = lt.position
+                            lpos = (lp[0], lp[1], lp[2])
+                            if area is not None and lt.radius > 0.0:  # (no spherical lights: pruned when compiled)
+                                sphere_light(scene, ws, j, lpos, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold,
+                                             mesh, film, phong, xfilm)
+                                continue
+                            scale = 1.0  # the strength's falloff: rad * 1.0 is rad exactly, so "none" leaves it unchanged
+                            if lt.falloff == FALLOFF_INVERSE_SQUARE:
+                                r2 = (lpos[0] - p[0]) ** 2 + (lpos[1] - p[1]) ** 2 + (lpos[2] - p[2]) ** 2
+                                if not r2 > _R2_MIN:
+                                    continue  # a light on the surface lights nothing (light_terms) and makes no inf
+                                scale = 1.0 / r2
+                            ndl, rv = light_terms(lpos, p, nf, d)
+                            if film is not None and (phong is None or skind == SURFACE_FILM):
+                                lit = film_toward_light(scene, ws, sidx, hit, ndl, rv, light_w)
+                            elif phong is not None:
+                                lit = phong_toward_light(scene, ws, sidx, hit, ndl, rv, light_w)
+                            else:
+                                lit = False
+                            if not lit:
+                                continue
+                            if threshold > 0.0:
+                                bound = 0.0
+                                for c in range(nc):
+                                    bound = max(bound, w[c] * light_w[c] * (rad[j, c] * scale))
+                                if bound <= threshold:
+                                    continue  # this light can add at most `threshold` here: pruned
+                            if shadow_transmittance(scene, ws, p_front, lpos, trans, mesh, film, phong, xfilm):
+                                for c in range(nc):
+                                    L[c] += w[c] * light_w[c] * (rad[j, c] * scale) * trans[c]
+                        vertex += 1
+                        # children: transmitted first (deeper in the stack), reflected on top; on a sphere the
+                        # one that ends up inside runs along a chord
+                        p_back = offset_origin(p, nfo, -eps)
+                        refl = (d[0] + 2.0 * cos_g * nf[0], d[1] + 2.0 * cos_g * nf[1], d[2] + 2.0 * cos_g * nf[2])
+                        # (on a sphere the one that ends up outside leaves it for good: it need not be tested)
+                        t_inside = -1
+                        t_chord = 0.0
+                        t_skip = -1
+                        r_inside = -1
+                        r_skip = -1
+                        if on_sphere and entering:
+                            t_inside = idx
+                            t_chord = cos_i if (tdir[0] == d[0] and tdir[1] == d[1] and tdir[2] == d[2]) else \
+                                abs(tdir[0] * n[0] + tdir[1] * n[1] + tdir[2] * n[2])
+                            r_skip = idx
+                        elif on_sphere:
+                            r_inside = idx
+                            t_skip = idx
+                        sp = _child(scene, ws, sp, L, p_back, tdir, ws.wt, ws.cut_t, gen, depth, threshold, 2, t_inside, t_chord,
+                                    t_skip)
+                        sp = _child(scene, ws, sp, L, p_front, refl, ws.wr, ws.cut_r, gen, depth, threshold, 1, r_inside, cos_i,
+                                    r_skip)
+                    for c in range(nc):
+                        r += to_rgb[0, c] * L[c]
+                        g += to_rgb[1, c] * L[c]
+                        b += to_rgb[2, c] * L[c]
+                    if spectrum is not None:
+                        for c in range(nc):
+                            spectrum[iy, x, c] += L[c]
+                image[iy, x, 0] = r / spp
+                image[iy, x, 1] = g / spp
+                image[iy, x, 2] = b / spp
+                if spectrum is not None:
+                    for c in range(nc):
+                        spectrum[iy, x, c] /= spp
+            for i in range(N_COUNTS):
+                counts[iy, i] = ray_counts[i]

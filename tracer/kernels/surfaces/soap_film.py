@@ -24,7 +24,7 @@ it answers the integrator's questions (:mod:`tracer.kernels.surfaces`):
   therefore sends :math:`w\\,T\\sum_k R^k = w\\,T/(1-R)` out of it in all (exactly w for a
   lossless film, R + T = 1; less for an absorbing one).  When the integrator cuts such a
   child (depth limit or pruning) it ends the branch with that factor (see
-  :func:`tracer.kernels.integrator.render_row` for the bias this leaves).
+  :func:`tracer.kernels.integrator.render_rows` for the bias this leaves).
 
 The same chord property lets a path inside a bubble reuse the film's set-up, and a uniform
 film its R(λ), T(λ): the entry hit, the exit hit and every inner bounce share one cos θ
@@ -80,7 +80,7 @@ def film_optics(scene, ws, b, n_out, cos_i, R, T, xfilm):
     Work a path inside a bubble does not need is skipped: the per-channel set-up (everything
     but the thickness) is kept per film for the last cos(theta), and a uniform film keeps its
     last R, T as well.  The integrator hands every hit at the end of a chord the exact cos of
-    its start (:func:`tracer.kernels.integrator.render_row`), so the exit hit and every inner
+    its start (:func:`tracer.kernels.integrator.render_rows`), so the exit hit and every inner
     bounce of a path find them (exact equality, no tolerance).
 
     *xfilm* None: the scene has only lossless Airy films at the band centres, and the other
