@@ -183,7 +183,7 @@ def is_compiled(packed: PackedScene, spectral_image=False, features=None) -> boo
 
 #: What a render says when it has to compile first (:func:`warm_up`).
 COMPILE_NOTICE = ("tracer: compiling the renderer for this scene's features ({features}) on this machine, "
-                  "once (about half a minute); later runs load it from numba's cache (tracer warmup compiles ahead)")
+                  "once (10 to 30 s); later runs load it from numba's cache (tracer warmup compiles ahead)")
 
 
 def feature_names(packed: PackedScene) -> list:
