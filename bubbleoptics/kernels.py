@@ -87,6 +87,7 @@ __all__ = [
     "PATH_TOTAL_REFLECTION",
     "normal_wavevector_nb",
     "fresnel_interface_nb",
+    "fresnel_dielectric_nb",
     "film_setup_nb",
     "sin2_cos2_nb",
     "BETA_POLY_MAX",
@@ -137,13 +138,13 @@ _Q_SMALL = 1e-60  # below this, sin(beta)/q1 is evaluated as a sinc (q1 -> 0 at 
 # --------------------------------------------------------------------------------------------
 # Building blocks
 # --------------------------------------------------------------------------------------------
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def _q_squared(n, n0, q0):
     """:math:`q^2 = (n-n_0)(n+n_0) + q_0^2`; real for real *n*, complex for complex *n*."""
     return (n - n0) * (n + n0) + q0 * q0
 
 
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def normal_wavevector_nb(n, n0, q0):
     """Normal wavevector component :math:`q = n\\cos\\theta` in a medium of index *n*.
 
@@ -158,7 +159,7 @@ def normal_wavevector_nb(n, n0, q0):
     return cmath.sqrt(complex(z.real, max(z.imag, 0.0)))
 
 
-@njit(**JIT)
+@njit(**JIT_INLINE)
 def _eta_difference(ni, nj, qi, qj, s2, pol):
     """:math:`\\eta_i - \\eta_j` without cancellation (s: q; p: q/n^2).
 
@@ -323,6 +324,39 @@ def fresnel_interface_nb(n1, n2, cos1):
     Ts = q2.real / q1 * (ts.real * ts.real + ts.imag * ts.imag)
     Tp = (n2 * (q2 / n2).conjugate()).real / q1 * (tp.real * tp.real + tp.imag * tp.imag)
     return rs, rp, ts, tp, Rs, Rp, Ts, Tp
+
+
+@njit(**JIT)
+def fresnel_dielectric_nb(n1, n2, cos1):
+    """Power reflectances of one interface between two lossless media, in real arithmetic.
+
+    The same formulas as :func:`fresnel_interface_nb` (Born & Wolf §1.5.2), built from the same
+    cancellation-free differences (:func:`_q_squared`, :func:`_eta_difference`, which are
+    type-generic) for real *n1*, *n2* > 0:
+
+    .. math::
+
+        q_2^2 = (n_2-n_1)(n_2+n_1) + q_1^2,\\;
+        R_s = \\left(\\frac{q_1-q_2}{q_1+q_2}\\right)^2,\\;
+        R_p = \\left(\\frac{q_1/n_1^2-q_2/n_2^2}{q_1/n_1^2+q_2/n_2^2}\\right)^2,
+        \\quad q_j = n_j\\cos\\theta_j.
+
+    Returns (Rs, Rp, q2): q2 = n2 cos(theta_2) >= 0 of the transmitted wave, and (1, 1, 0) at
+    total internal reflection (q2^2 <= 0).  Why a second build: the complex one pays for a
+    complex square root and complex divisions at every hit of the tracer's clear spheres,
+    whose indices are real (checked against :func:`fresnel_interface_nb` and ``tmm`` in
+    ``tests/bubbleoptics/test_kernels.py``).
+    """
+    c1 = max(cos1, COS_MIN)
+    q1 = n1 * c1
+    z = _q_squared(n2, n1, q1)
+    if z <= 0.0:
+        return 1.0, 1.0, 0.0
+    q2 = math.sqrt(z)
+    s2 = n1 * n1 * (1.0 - c1) * (1.0 + c1)
+    rs = _eta_difference(n1, n2, q1, q2, s2, POL_S) / (q1 + q2)
+    rp = _eta_difference(n1, n2, q1, q2, s2, POL_P) / (q1 / (n1 * n1) + q2 / (n2 * n2))
+    return rs * rs, rp * rp, q2
 
 
 # --------------------------------------------------------------------------------------------
@@ -802,10 +836,12 @@ def srgb_encode_quantized_array(x, levels, out):
         out[i] = np.rint(srgb_encode_nb(v) * levels)
 
 
-@njit(**JIT_PARALLEL)
+@njit(**JIT)
 def srgb_decode_array(v, out):
-    """:func:`srgb_decode_nb` over 1-D arrays (NaN stays NaN)."""
-    for i in prange(v.shape[0]):
+    """:func:`srgb_decode_nb` over 1-D arrays (NaN stays NaN).  Serial: it decodes a scene's
+    colours and, once per render, an environment image; a parallel build cost every first render
+    about 0.2 s of compiling for those few values (docs/performance.md)."""
+    for i in range(v.shape[0]):
         out[i] = srgb_decode_nb(v[i]) if v[i] == v[i] else v[i]
 
 

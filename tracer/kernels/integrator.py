@@ -276,7 +276,7 @@ def shadow_transmittance(scene, ws, p, lpos, trans, mesh, film, phong, xfilm):
     return shadow_along(scene, ws, p, (dx / dist, dy / dist, dz / dist), dist, trans, mesh, film, phong, xfilm)
 
 
-@njit(**JIT_NO_NRT)  # not inlined: one compiled shadow path for point and spherical lights
+@njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **JIT_NO_NRT)  # not inlined: one compiled shadow path for point and spherical lights
 def shadow_along(scene, ws, p, d, dist, trans, mesh, film, phong, xfilm):
     """Transmittance per channel (into *trans*) of the shadow ray from *p* along the unit
     direction *d* up to the distance *dist* (may be inf); False if zero."""
@@ -309,7 +309,7 @@ def shadow_along(scene, ws, p, d, dist, trans, mesh, film, phong, xfilm):
     return True
 
 
-@njit(**JIT_NO_NRT)  # not inlined: a scene without spherical lights never compiles it
+@njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **JIT_NO_NRT)  # not inlined: a scene without spherical lights never compiles it
 def sphere_light(scene, ws, j, c, p, p_front, nf, d, hit, skind, sidx, w, key, vertex, threshold, mesh, film, phong, xfilm):
     """Add to ``ws.L`` what spherical light *j* (centre *c*) sends to the viewer from the hit
     *hit* at *p* (surface *skind*, *sidx*; facing normal *nf*, incoming direction *d*) for
@@ -463,7 +463,7 @@ def scene_features(scene) -> tuple:
     return tuple(True if on else None for on in flags)
 
 
-@njit(nogil=True, **JIT_NO_NRT)
+@njit(nogil=True, no_cfunc_wrapper=True, **JIT_NO_NRT)
 def render_rows(scene, rows, row0, rows_per_task, task0, task_step, width, height, spp, seed, depth, threshold, image, counts,
                 spectrum, ws, mesh, area, film, phong, xfilm):
     """Render the rows ``rows`` (int64, distinct, any order, each from *row0* to

@@ -9,7 +9,7 @@ Spheres and triangle meshes carry it.  Its record is :data:`tracer.kernels.recor
   light's radiance (eq. 1.4, the sum over lights), times the shadow ray's transmittance;
 * **scatter**: a mirror child weighted by :math:`k_s C + k_t F` and a refracted child (Snell)
   weighted by :math:`k_t (1 - F) C`, F the unpolarized Fresnel reflectance of the interface
-  (:func:`bubbleoptics.kernels.fresnel_interface_nb`; 0 when n = 1; total internal reflection
+  (:func:`bubbleoptics.kernels.fresnel_dielectric_nb`; 0 when n = 1; total internal reflection
   gives F = 1 and no refracted child).  A cut child ends with the environment along it
   (factor 1: no closed form is assumed for a general material);
 * **shadow**: a shadow ray crossing the surface is multiplied by :math:`k_t (1 - F) C`
@@ -24,20 +24,21 @@ import math
 from numba import njit
 from bubbleoptics.jit import JIT, JIT_INLINE
 
-from bubbleoptics.kernels import fresnel_interface_nb, normal_wavevector_nb
+from bubbleoptics.kernels import fresnel_dielectric_nb
 
 __all__ = ["fresnel_unpolarized", "phong_ambient", "phong_scatter", "phong_toward_light", "phong_shadow"]
 
 
 
-@njit(**JIT)
+@njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **JIT)  # called only from the kernels
 def fresnel_unpolarized(n1, n2, cos_i):
-    """Unpolarized Fresnel reflectance from index *n1* into *n2* at cos(theta) = *cos_i*
-    (0 when n1 == n2, 1 at total internal reflection)."""
+    """Unpolarized Fresnel reflectance F from index *n1* into *n2* at cos(theta) = *cos_i*, and
+    q2 = n2 cos(theta_t) of the refracted ray (:func:`bubbleoptics.kernels.fresnel_dielectric_nb`:
+    both indices are real).  F = 0 when n1 == n2, 1 at total internal reflection (q2 = 0 there)."""
     if n1 == n2:
-        return 0.0
-    res = fresnel_interface_nb(n1, n2 + 0j, cos_i)
-    return 0.5 * (res[4] + res[5])
+        return 0.0, n1 * cos_i
+    Rs, Rp, q2 = fresnel_dielectric_nb(n1, n2, cos_i)
+    return 0.5 * (Rs + Rp), q2
 
 
 @njit(**JIT_INLINE)
@@ -82,11 +83,10 @@ def phong_scatter(scene, ws, m, hit):
     if kt > 0.0:
         n1 = 1.0 if entering else ior
         n2 = ior if entering else 1.0
-        F = fresnel_unpolarized(n1, n2, cos_i)
+        F, q2 = fresnel_unpolarized(n1, n2, cos_i)
         if n1 != n2 and F < 1.0:
             eta = n1 / n2
-            q2 = normal_wavevector_nb(n2 + 0j, n1, n1 * cos_i)  # n2 cos(theta_t), no cancellation
-            cos_t = q2.real / n2
+            cos_t = q2 / n2  # q2 = n2 cos(theta_t) from (n2 - n1)(n2 + n1) + q1^2: no cancellation
             k = eta * cos_i - cos_t
             tx = eta * d[0] + k * nf[0]
             ty = eta * d[1] + k * nf[1]
@@ -117,7 +117,7 @@ def phong_shadow(scene, ws, m, n, cos_i, entering, trans):
     if kt <= 0.0:
         return False
     ior = mat.ior
-    F = fresnel_unpolarized(1.0, ior, cos_i) if entering else fresnel_unpolarized(ior, 1.0, cos_i)
+    F = fresnel_unpolarized(1.0, ior, cos_i)[0] if entering else fresnel_unpolarized(ior, 1.0, cos_i)[0]
     col = scene.phong_color
     for c in range(trans.shape[0]):
         trans[c] *= kt * (1.0 - F) * col[m, c]
