@@ -294,7 +294,7 @@ def test_sphere_far_tiny_against_mpmath():
 
     b^2 and 4ac are ~1e17 and agree in all but their last digits, so the textbook discriminant
     is rounding noise (+-10): half the rays are reported as misses, the others land ~1 unit
-    (1000 radii) off.  Delta = r^2 - |f - (f.d/a) d|^2 has no such cancellation.
+    (1000 radii) off.  a Delta = r^2 a - |f x d|^2 has no such cancellation.
     """
     rng = np.random.default_rng(20190226)
     c = np.array([1e8, 3e7, -2e7]) * 1.7

@@ -90,23 +90,26 @@ def intersect_sphere(o, d, center, radius, tmin, tmax):
     .. math::
 
         b' = -f\\cdot d,\\qquad
-        \\Delta = r^2 - |\\ell|^2,\\qquad \\ell = f - \\frac{f\\cdot d}{a}\\,d ,
+        a\\Delta = r^2 a - |f \\times d|^2 ,
 
-    since :math:`b'^2 - a(|f|^2 - r^2) = a\\,(r^2 - |f|^2 + (f\\cdot d)^2/a) = a\\Delta`.
-    :math:`\\ell` is the vector from the centre to the ray's point of closest approach, formed
-    as a vector difference, so :math:`\\Delta` keeps its accuracy when the sphere is tiny and far
-    away, where the textbook :math:`b^2 - 4ac` is the difference of two huge, nearly equal
-    numbers (Haines et al. 2019, eq. 7.5, written here for a non-unit *d*).  The roots then
-    follow without subtracting nearly equal numbers (Press et al., *Numerical Recipes*, §5.6):
+    since :math:`b'^2 - a(|f|^2 - r^2) = r^2 a - (|f|^2|d|^2 - (f\\cdot d)^2)` and the bracket is
+    :math:`|f\\times d|^2` (Lagrange's identity).  :math:`|f\\times d|/\\sqrt a` is the distance
+    from the centre to the ray's line, the :math:`|\\ell|` of Haines et al. (2019, eq. 7.5,
+    :math:`\\ell = f - (f\\cdot d/a)\\,d`); formed from the cross product's components it keeps
+    its accuracy when the sphere is tiny and far away, where the textbook :math:`b^2 - 4ac` is
+    the difference of two huge, nearly equal numbers, and it needs no division (a test against
+    a sphere the ray misses costs no division and no square root: docs/performance.md).  The
+    roots then follow without subtracting nearly equal numbers (Press et al., *Numerical
+    Recipes*, §5.6):
 
     .. math::
 
-        q = b' + \\operatorname{sign}(b')\\sqrt{a}\\sqrt{\\Delta},\\qquad
+        q = b' + \\operatorname{sign}(b')\\sqrt{a\\Delta},\\qquad
         t_0 = c/q,\\quad t_1 = q/a,\\qquad c = |f|^2 - r^2 .
 
     A tangent ray (:math:`\\Delta = 0` exactly) gives the double root once; if also
     :math:`b' = 0` (origin at the tangent point) then :math:`q = c = 0` and the root is
-    :math:`t = 0` (not 0/0).  :math:`\\Delta < 0`, also from rounding, is a miss.  A zero
+    :math:`t = 0` (not 0/0).  :math:`a\\Delta < 0`, also from rounding, is a miss.  A zero
     direction or a radius :math:`\\le 0` never hits.
     """
     a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
@@ -114,14 +117,13 @@ def intersect_sphere(o, d, center, radius, tmin, tmax):
         return _INF, False
     f = (o[0] - center[0], o[1] - center[1], o[2] - center[2])
     bq = -(f[0] * d[0] + f[1] * d[1] + f[2] * d[2])
-    k = bq / a  # t of the point of closest approach
-    lx = f[0] + k * d[0]
-    ly = f[1] + k * d[1]
-    lz = f[2] + k * d[2]
-    disc = radius * radius - (lx * lx + ly * ly + lz * lz)
-    if not (disc >= 0.0):
+    cx = f[1] * d[2] - f[2] * d[1]
+    cy = f[2] * d[0] - f[0] * d[2]
+    cz = f[0] * d[1] - f[1] * d[0]
+    disc_a = radius * radius * a - (cx * cx + cy * cy + cz * cz)  # a * Delta
+    if not (disc_a >= 0.0):
         return _INF, False
-    h = math.sqrt(a) * math.sqrt(disc)
+    h = math.sqrt(disc_a)
     q = bq + h if bq >= 0.0 else bq - h
     if q == 0.0:  # b' = 0 and Delta = 0: tangent at the origin itself
         t0 = 0.0
