@@ -73,7 +73,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/output_memory.py
 	$(PY) benchmarks/movie.py
 	$(PY) benchmarks/film_flow.py
-	$(PY) benchmarks/film_flow_validation.py
+	$(PY) benchmarks/film_flow_verification.py
 	$(PY) benchmarks/peer_mitsuba.py
 
 ## make paper: every figure, table and number from data/, then paper/paper.pdf (needs LaTeX, see README).

@@ -11,12 +11,12 @@
 * :func:`first_crossing` and :func:`rigid_black_time`: when a thickness first goes below a
   threshold, in a simulated series and by the rigid-drainage apex law
   :math:`h_0 (1 + t/\\tau)^{-1/2}`;
-* the validation references of the models, shared by ``tests/bubbleoptics/test_film_flow.py`` and
-  ``benchmarks/film_flow_validation.py``: :func:`rigid_characteristics_profile` (rigid drainage
+* the verification references of the models, shared by ``tests/bubbleoptics/test_film_flow.py`` and
+  ``benchmarks/film_flow_verification.py``: :func:`rigid_characteristics_profile` (rigid drainage
   from a uniform start, by the characteristics of its PDE, integrated with scipy),
   :func:`plug_equilibrium_error` (plug flow against its closed-form equilibrium) and
   :func:`coarsen_cells` (a field on the grid half as fine, for self-convergence);
-* the verification studies of ``benchmarks/film_flow_validation.py`` (the time step and the
+* the verification studies of ``benchmarks/film_flow_verification.py`` (the time step and the
   evaporation rate) and their tests: :func:`black_film_run` (an evaporating plug-flow film
   sampled every step, a :class:`BlackFilm`), :func:`equilibrium_apex_nm`,
   :func:`observed_orders` and :func:`richardson`.
@@ -174,7 +174,7 @@ def rigid_black_time(h0_nm, tau_s, threshold_nm):
     return float(tau_s * ((h0_nm / threshold_nm) ** 2 - 1.0))
 
 
-# ---------------------------------------------------------------- validation references
+# ---------------------------------------------------------------- verification references
 def unit_exponent_parameters(**changes):
     """:class:`~bubbleoptics.filmflow.FilmParameters` (with *changes*) whose plug-flow
     equilibrium exponent is a = 1: surfactant Γ0 = ρ g R h0 / (2 R_g T)."""

@@ -5,7 +5,7 @@ film volume :math:`V = \\sum_{jk} A_j h_{jk}` exactly (finite volume, no flux th
 poles) apart from evaporation, and never make the thickness negative.  Common interface:
 ``initial_state(seed)``, ``step(state, dt)`` (a new :class:`FilmState`), ``run(t_end, dt,
 save_every, seed, progress)`` (a :class:`~bubbleoptics.filmflow.ThicknessSeries` in nm).
-See ``docs/film-flow.md`` for the derivations and the validation.
+See ``docs/film-flow.md`` for the derivations and their verification (convergence and conservation; no measured film yet).
 """
 
 import math

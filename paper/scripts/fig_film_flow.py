@@ -1,8 +1,8 @@
 """Figure: the film-flow simulation verified, and a film turning black on a rendered bubble.
 
 Run:  python paper/scripts/fig_film_flow.py [--quick]
-Reads ``data/derived/film_flow_validation.csv`` and ``.npz``, ``film_flow_dt.csv`` and
-``film_flow_evaporation.csv`` (all written by ``benchmarks/film_flow_validation.py``); writes
+Reads ``data/derived/film_flow_verification.csv`` and ``.npz``, ``film_flow_dt.csv`` and
+``film_flow_evaporation.csv`` (all written by ``benchmarks/film_flow_verification.py``); writes
 ``fig_film_flow.pdf``/``.png`` (page wide).
 
 (a) Rigid drainage: the apex (top cell row) against the law h0 (1 + t/τ)^(-1/2), steps of τ/20.
@@ -26,8 +26,8 @@ import paths
 import style
 from study import read_commented_csv
 
-CSV = paths.DERIVED / "film_flow_validation.csv"
-NPZ = paths.DERIVED / "film_flow_validation.npz"
+CSV = paths.DERIVED / "film_flow_verification.csv"
+NPZ = paths.DERIVED / "film_flow_verification.npz"
 DT_CSV = paths.DERIVED / "film_flow_dt.csv"
 EVAPORATION_CSV = paths.DERIVED / "film_flow_evaporation.csv"
 CHECKS = {  # check, quantity -> label, marker

@@ -1,12 +1,12 @@
 """The numbers of the film-flow chapter (paper/sections/film_flow.tex), a plug-in of make_numbers.py.
 
-* ``filmflowvalid``: ``data/derived/film_flow_validation.csv`` (``benchmarks/film_flow_validation.py``):
+* ``filmflowverif``: ``data/derived/film_flow_verification.csv`` (``benchmarks/film_flow_verification.py``):
   the checks of ``tests/bubbleoptics/test_film_flow.py`` on more grids, the black-film time and the frames;
 * ``filmflowspeed``: ``data/derived/film_flow.csv`` (``benchmarks/film_flow.py``): ms a step, steps
   per second, the target, and the cost of a 10-s movie;
 * ``filmflowparams``: :class:`bubbleoptics.filmflow.FilmParameters` (the cited defaults) and the
   black-film threshold of the benchmark (computed, no data file);
-* ``filmflowdt``: ``data/derived/film_flow_dt.csv`` (``benchmarks/film_flow_validation.py --only dt``):
+* ``filmflowdt``: ``data/derived/film_flow_dt.csv`` (``benchmarks/film_flow_verification.py --only dt``):
   the black-film time and the apex at a fixed time against the step, the observed orders and
   Richardson's estimates, on the study's grid and on the black-film run's;
 * ``filmflowevap``: ``data/derived/film_flow_evaporation.csv`` (``--only evaporation``): the
@@ -40,11 +40,11 @@ def _series(rows, check, quantity):
             if r["check"] == check and r["quantity"] == quantity}
 
 
-def validation(dirs):
-    notes, rows = read_commented_csv(dirs["derived"] / "film_flow_validation.csv")
+def verification(dirs):
+    notes, rows = read_commented_csv(dirs["derived"] / "film_flow_verification.csv")
     if any("QUICK MODE" in n for n in notes):
-        raise ValueError("film_flow_validation.csv was written in quick mode")
-    out = {"FfValidDate": date_of(notes), "FfValidMachine": machine_of(notes)}
+        raise ValueError("film_flow_verification.csv was written in quick mode")
+    out = {"FfVerifDate": date_of(notes), "FfVerifMachine": machine_of(notes)}
     apex = _series(rows, "apex", "max_relative_error")
     prof = _series(rows, "profile", "max_abs_error_h_over_h0")
     eq = _series(rows, "equilibrium", "max_relative_error")
@@ -98,11 +98,11 @@ def validation(dirs):
         out[name] = significant(float(frames[key]["value"]), 2)
     load = re.search(r"load average ([0-9.]+) at the start, ([0-9.]+) at the end", notes[0])
     if load:
-        out["FfValidLoadStart"], out["FfValidLoadEnd"] = load.group(1), load.group(2)
+        out["FfVerifLoadStart"], out["FfVerifLoadEnd"] = load.group(1), load.group(2)
     return out
 
 
-VALIDATION_MACROS = ["FfValidDate", "FfValidMachine", "FfValidLoadStart", "FfValidLoadEnd"] + [
+VERIFICATION_MACROS = ["FfVerifDate", "FfVerifMachine", "FfVerifLoadStart", "FfVerifLoadEnd"] + [
     f"Ff{p}{s}" for p in ("Apex", "Profile", "Eq", "Transient")
     for s in ("RowsMin", "RowsMax", "ErrCoarse", "ErrFine", "OrderMin", "OrderMax", "OrderLast", "Orders")] + [
     "FfTransientCoarseGrid", "FfTransientFineGrid", "FfApexErrSixtyFour", "FfTauS", "FfConsRigidVolume",
@@ -198,7 +198,7 @@ def _signed(x, n=2, min_decimals=2):
 
 
 #: the grids of the time-step study, by their role: STUDY reaches the asymptotic range, BLACK is
-#: the black-film run's grid of film_flow_validation.csv
+#: the black-film run's grid of film_flow_verification.csv
 DT_GRIDS = {"": "64x128", "Black": "128x256"}
 
 
@@ -362,7 +362,7 @@ EVAP_MACROS = ["FfEvDate", "FfEvMachine", "FfEvMultipleMin", "FfEvMultipleMax", 
     f"FfEv{role}{suffix}" for role in EVAP_RUNS for suffix in EVAP_SUFFIXES]
 
 SECTIONS = {
-    "filmflowvalid": (["derived/film_flow_validation.csv"], validation, VALIDATION_MACROS),
+    "filmflowverif": (["derived/film_flow_verification.csv"], verification, VERIFICATION_MACROS),
     "filmflowspeed": (["derived/film_flow.csv"], speed, SPEED_MACROS),
     "filmflowparams": (["bubbleoptics.filmflow.FilmParameters"], parameters, PARAMETER_MACROS),
     "filmflowdt": (["derived/film_flow_dt.csv"], dt_study, DT_MACROS),

@@ -33,8 +33,8 @@ def _plugin(name):
 
 
 @pytest.fixture(scope="module")
-def validation():
-    return _rows("film_flow_validation.csv")
+def verification():
+    return _rows("film_flow_verification.csv")
 
 
 def _series(rows, check, quantity):
@@ -48,33 +48,33 @@ def _orders(errors):
 
 
 @pytest.mark.regression
-def test_film_flow_orders_are_those_the_chapter_names(validation):
+def test_film_flow_orders_are_those_the_chapter_names(verification):
     """Apex law and equilibrium: second order; profile: first order; transient: first order
     (its coarsest pair not yet asymptotic, as in tests/bubbleoptics/test_film_flow.py)."""
-    assert all(1.8 < o < 2.2 for o in _orders(_series(validation, "apex", "max_relative_error")))
-    assert all(1.9 < o < 2.1 for o in _orders(_series(validation, "equilibrium", "max_relative_error")))
-    assert all(0.9 < o < 1.1 for o in _orders(_series(validation, "profile", "max_abs_error_h_over_h0")))
-    transient = _orders(_series(validation, "transient", "max_abs_difference_h_over_h0"))
+    assert all(1.8 < o < 2.2 for o in _orders(_series(verification, "apex", "max_relative_error")))
+    assert all(1.9 < o < 2.1 for o in _orders(_series(verification, "equilibrium", "max_relative_error")))
+    assert all(0.9 < o < 1.1 for o in _orders(_series(verification, "profile", "max_abs_error_h_over_h0")))
+    transient = _orders(_series(verification, "transient", "max_abs_difference_h_over_h0"))
     assert 0.6 < transient[0] < 1.3 and all(0.85 < o < 1.3 for o in transient[1:])
     # the stored log2 ratios are those of the stored errors
-    stored = _series(validation, "equilibrium", "order")
-    assert list(stored.values()) == pytest.approx(_orders(_series(validation, "equilibrium", "max_relative_error")),
+    stored = _series(verification, "equilibrium", "order")
+    assert list(stored.values()) == pytest.approx(_orders(_series(verification, "equilibrium", "max_relative_error")),
                                                   rel=1e-3)
 
 
 @pytest.mark.regression
-def test_film_flow_conserves_to_rounding(validation):
-    values = {r["quantity"]: float(r["value"]) for r in validation if r["check"] == "conservation"}
+def test_film_flow_conserves_to_rounding(verification):
+    values = {r["quantity"]: float(r["value"]) for r in verification if r["check"] == "conservation"}
     assert set(values) == {"rigid_volume_per_step", "plug_volume_per_step", "plug_surfactant_per_step",
                            "rigid_evaporated", "plug_evaporated"}
     assert max(values.values()) < 1e-11
 
 
 @pytest.mark.regression
-def test_black_film_time_lies_between_the_two_estimates(validation):
+def test_black_film_time_lies_between_the_two_estimates(verification):
     """The chapter: h_eq(0)/E < simulated apex time < h0/E; first cell before the apex before all;
     the rigid law's time is months (more than 30 days), and the frames span the apex time."""
-    v = {r["quantity"]: float(r["value"]) for r in validation if r["check"] == "black"}
+    v = {r["quantity"]: float(r["value"]) for r in verification if r["check"] == "black"}
     assert v["t_equilibrium_apex"] < v["t_apex"] < v["t_uniform"]
     assert v["t_first"] <= v["t_apex"] <= v["t_all"]
     assert v["t_rigid"] > 30 * 86400
@@ -85,19 +85,19 @@ def test_black_film_time_lies_between_the_two_estimates(validation):
     a = p.equilibrium_exponent
     assert v["t_uniform"] == pytest.approx(p.h0 / p.evaporation, rel=1e-3)
     assert v["t_equilibrium_apex"] == pytest.approx(p.h0 * a / math.sinh(a) * math.exp(-a) / p.evaporation, rel=1e-3)
-    times = [float(r["value"]) for r in validation if r["check"] == "frames" and r["quantity"] == "time"]
+    times = [float(r["value"]) for r in verification if r["check"] == "frames" and r["quantity"] == "time"]
     assert min(times) < v["t_apex"] <= max(times)
 
 
 @pytest.mark.api
-def test_film_flow_frames_are_small_images(validation):
+def test_film_flow_frames_are_small_images(verification):
     import numpy as np
 
-    path = DERIVED / "film_flow_validation.npz"
+    path = DERIVED / "film_flow_verification.npz"
     assert path.stat().st_size < 2_000_000
     data = np.load(path)
     frames = data["frames"]
-    size = int(float(next(r["value"] for r in validation if r["quantity"] == "size")))
+    size = int(float(next(r["value"] for r in verification if r["quantity"] == "size")))
     assert frames.dtype == np.uint8 and frames.shape[1:] == (size, size, 3)
     assert len(frames) == len(data["frame_times"])
     assert frames.std() > 5  # not blank

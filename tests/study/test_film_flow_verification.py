@@ -1,4 +1,4 @@
-"""Verification of the film-flow black-film run (benchmarks/film_flow_validation.py --only dt,
+"""Verification of the film-flow black-film run (benchmarks/film_flow_verification.py --only dt,
 --only evaporation): the time-step study converges, and the black-film time falls as the
 evaporation rate rises.  Small grids: each test takes seconds."""
 

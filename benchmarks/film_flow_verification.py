@@ -1,8 +1,8 @@
 """The film-flow verification (grids, conservation, time step, evaporation), black-film time, frames.
 
-Run:  python benchmarks/film_flow_validation.py [--quick] [--only {checks,dt,evaporation}] [--out PATH]
-Writes ``data/derived/film_flow_validation.csv`` (one row a measured quantity) and
-``data/derived/film_flow_validation.npz`` (the apex curve, the thickness against time of the
+Run:  python benchmarks/film_flow_verification.py [--quick] [--only {checks,dt,evaporation}] [--out PATH]
+Writes ``data/derived/film_flow_verification.csv`` (one row a measured quantity) and
+``data/derived/film_flow_verification.npz`` (the apex curve, the thickness against time of the
 black-film run and the rendered frames, 8-bit sRGB, for ``paper/scripts/fig_film_flow.py``)
 (``--only checks``), ``data/derived/film_flow_dt.csv`` (the time-step study, ``--only dt``) and
 ``data/derived/film_flow_evaporation.csv`` (the evaporation study, ``--only evaporation``);
@@ -72,7 +72,7 @@ from study import film_flow as ff
 from study import provenance, write_csv
 from study.film_flow import STILL, plug_equilibrium_error, plug_transient_differences, rigid_characteristics_profile
 
-OUT = ROOT / "data" / "derived" / "film_flow_validation.csv"
+OUT = ROOT / "data" / "derived" / "film_flow_verification.csv"
 BLACK_NM = 30.0  # "black film": thinner than this (as notebook 07)
 BLACK_GRID, BLACK_DT = (128, 256), 0.01
 FRAME_SIZE = 200
@@ -270,11 +270,11 @@ def evaporation_study(runs, multiples):
 def _study_comment(script_note, quick, load_start, extra):
     load = os.getloadavg()[0]
     return [
-        provenance("benchmarks/film_flow_validation.py",
+        provenance("benchmarks/film_flow_verification.py",
                    f"load average {load_start:.2f} at the start, {load:.2f} at the end (other processes share the cores)",
                    f"numba threads {numba_threads()}",
                    ("QUICK MODE (smoke test), " if quick else "") + script_note,
-                   "regenerate with: python benchmarks/film_flow_validation.py --only "
+                   "regenerate with: python benchmarks/film_flow_verification.py --only "
                    + extra + (" --quick" if quick else "")),
     ]
 
@@ -385,11 +385,11 @@ def checks(args):
 
     load = os.getloadavg()[0]
     comment = [
-        provenance("benchmarks/film_flow_validation.py",
+        provenance("benchmarks/film_flow_verification.py",
                    f"load average {load_start:.2f} at the start, {load:.2f} at the end (other processes share the cores)",
                    ("QUICK MODE (smoke test), " if q else "")
-                   + "the checks of tests/bubbleoptics/test_film_flow.py on more grids; frames in film_flow_validation.npz",
-                   "regenerate with: python benchmarks/film_flow_validation.py" + (" --quick" if q else "")),
+                   + "the checks of tests/bubbleoptics/test_film_flow.py on more grids; frames in film_flow_verification.npz",
+                   "regenerate with: python benchmarks/film_flow_verification.py" + (" --quick" if q else "")),
         "order rows: log2 of the ratio of the error on the grid half as fine to the error on this grid",
     ]
     write_csv(args.out, rows, comment, fieldnames=["check", "quantity", "grid", "value", "unit", "note"])
