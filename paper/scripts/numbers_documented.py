@@ -40,11 +40,14 @@ def documented(dirs):
      out["SweepThicknesses"]) = m.groups()
     tests = root / "tests"
     text = (tests / "bubbleoptics" / "test_reference_mpmath.py").read_text(encoding="utf-8")
-    m = re.search(r"wavelength (\d+)-(\d+) nm, thickness\s+0-(\d+) µm", text)
+    m = re.search(r"wavelength (\d+)-(\d+) nm, thickness\s+0-(\d+) µm.*?angle 0 \.\. pi/2 - 1e-(\d+).*?"
+                  r"film\s+n ([\d.]+)-([\d.]+) with k 0 or up to ([\d.]+)", text, flags=re.DOTALL)
     if not m:
         raise ValueError("tests/bubbleoptics/test_reference_mpmath.py: the domain sentence "
-                         "('wavelength A-B nm, thickness 0-C µm') is gone")
-    out["RefDomainWlMin"], out["RefDomainWlMax"], out["RefDomainThicknessUm"] = m.groups()
+                         "('wavelength A-B nm, thickness 0-C µm ..., angle 0 .. pi/2 - 1eD ..., "
+                         "film n E-F with k 0 or up to G') is gone")
+    (out["RefDomainWlMin"], out["RefDomainWlMax"], out["RefDomainThicknessUm"], out["RefDomainGrazingExp"],
+     out["RefDomainIndexMin"], out["RefDomainIndexMax"], out["RefDomainKMax"]) = m.groups()
     patterns = {
         "TmmTol": ("bubbleoptics/test_reference_tmm.py", rf"\|ours - tmm\| <= {_NUM}"),
         "ColourXYZTol": ("bubbleoptics/test_colorimetry.py", rf"/ 100 to {_NUM}"),
@@ -61,7 +64,8 @@ def documented(dirs):
     return out
 
 
-DOCUMENTED_MACROS = ["RefDomainWlMin", "RefDomainWlMax", "RefDomainThicknessUm", "SweepWavelengths", "SweepWlMin",
+DOCUMENTED_MACROS = ["RefDomainWlMin", "RefDomainWlMax", "RefDomainThicknessUm", "RefDomainGrazingExp",
+                     "RefDomainIndexMin", "RefDomainIndexMax", "RefDomainKMax", "SweepWavelengths", "SweepWlMin",
                      "SweepWlMax", "SweepAngles", "SweepThicknesses", "AccBarAbs", "AccBarRel", "AccWorstAbs",
                      "AccWorstRel", "TmmTol", "ColourXYZTol", "FilmColourTol", "HypothesisExamples"]
 

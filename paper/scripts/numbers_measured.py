@@ -119,6 +119,8 @@ BUBBLE_FILE_INDEX = "oospectro_bubble_file_index.csv"
 BUBBLE_CMC_MULTIPLE = 10
 #: The confidence level of the q_e interval (F test on the profile of the residual).
 BUBBLE_LEVEL = 0.95
+#: The power of ten in which the fitted evaporation rate q_e is printed (MeasBubQe x 10^QE_EXPONENT m/s).
+QE_EXPONENT = -8
 #: Seconds per unit of the file-name index: not stated by the source; consecutive files differ by
 #: 36-51 units (median 40), as a millisecond clock read at about 25 spectra a second would.
 BUBBLE_TIME_UNIT_S = 1e-3
@@ -327,6 +329,7 @@ def bubble(dirs):
     law = {r["law"]: r for r in rows}
     both, mr = law["rigid drainage + evaporation"], law["t^-2/3 drainage + evaporation"]
     dry, evap = law["rigid drainage only"], law["evaporation only"]
+    qe_scale = 10.0 ** -QE_EXPONENT  # q_e is printed as MeasBubQe x MeasBubQeScale m/s
     return {
         "MeasBubN": both["n_points"],
         "MeasBubFirstNm": f"{float(both['h_first_nm']):.0f}",
@@ -336,10 +339,11 @@ def bubble(dirs):
         "MeasBubRmsMr": significant(float(mr["rms_log"]), 2),
         "MeasBubRmsDry": significant(float(dry["rms_log"]), 2),
         "MeasBubRmsEvap": significant(float(evap["rms_log"]), 2),
-        "MeasBubQe": significant(1e8 * float(both["q_e_m_per_s"]), 2),
-        "MeasBubQeLow": _down(1e8 * float(both["q_e_low"])),
-        "MeasBubQeHigh": _up(1e8 * float(both["q_e_high"])),
-        "MeasBubQeMr": significant(1e8 * float(mr["q_e_m_per_s"]), 2),
+        "MeasBubQe": significant(qe_scale * float(both["q_e_m_per_s"]), 2),
+        "MeasBubQeLow": _down(qe_scale * float(both["q_e_low"])),
+        "MeasBubQeHigh": _up(qe_scale * float(both["q_e_high"])),
+        "MeasBubQeScale": rf"\ensuremath{{10^{{{QE_EXPONENT}}}}}",
+        "MeasBubQeMr": significant(qe_scale * float(mr["q_e_m_per_s"]), 2),
         "MeasBubRadiusMm": significant(float(both["radius_equiv_mm"]), 2),
         "MeasBubCmc": str(BUBBLE_CMC_MULTIPLE),
         "MeasBubLevel": f"{100 * BUBBLE_LEVEL:g}",
@@ -380,7 +384,7 @@ BUBBLE_OPTICS_MACROS = ["MeasBubOptN", "MeasBubOptGood", "MeasBubOptMaxPct", "Me
                         "MeasBubOptAllThin", "MeasBubOptThinNm", "MeasBubOptAboveNm"]
 
 BUBBLE_MACROS = ["MeasBubN", "MeasBubFirstNm", "MeasBubLastNm", "MeasBubSpanS", "MeasBubRmsBoth", "MeasBubRmsMr",
-                 "MeasBubRmsDry", "MeasBubRmsEvap", "MeasBubQe", "MeasBubQeLow", "MeasBubQeHigh", "MeasBubQeMr",
+                 "MeasBubRmsDry", "MeasBubRmsEvap", "MeasBubQe", "MeasBubQeScale", "MeasBubQeLow", "MeasBubQeHigh", "MeasBubQeMr",
                  "MeasBubRadiusMm", "MeasBubCmc", "MeasBubLevel", "MeasBubFiles", "MeasBubStepMin", "MeasBubStepMax",
                  "MeasBubStepMedian"]
 
