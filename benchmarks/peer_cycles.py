@@ -82,6 +82,8 @@ RADIUS = 1.0
 FILM_N = 1.33
 THICKNESSES = (10.0, 200.0, 400.0, 800.0)
 TIMING_THICKNESS = 400.0
+#: thread counts of the timing rounds, both renderers (a count above the machine's is skipped)
+THREADS = (2, 1)
 DEPTH = 12
 BOUNCES = 32
 SUBDIVISIONS = 6
@@ -414,6 +416,57 @@ def cpu_lock(log, phase, use=True):
 # the benchmark
 
 
+def equal_error_rows(d, timings, errors, own, cyc_sweep, ours_sweep, suffix, threads, add):
+    """The timing rows of one thread count and the equal-error rows derived from them.
+
+    *timings*: {(renderer, spp): [seconds, ...]}; *errors*, *own*: {(renderer, spp): de_stats row,
+    bubble mean against the renderer's own converged image}.  Sections ``timing``, ``equal_error``
+    and ``equal_own_error``, each with *suffix* (``""`` for two threads, ``"_1_thread"``).
+    """
+    from study.fronts import time_at_error
+
+    rows, curves = [], {}
+    for (renderer, s), ts in timings.items():
+        row = dict(section="timing" + suffix, thickness_nm=d, renderer=renderer, threads=threads,
+                   setting="defaults" if renderer == "ours" else "path tracing", spp=s,
+                   seconds=float(np.median(ts)), seconds_min=float(min(ts)), seconds_max=float(max(ts)),
+                   seconds_runs=" ".join(f"{t:.4f}" for t in ts), own_bubble_mean=own[(renderer, s)],
+                   **errors[(renderer, s)])
+        add(**row)  # add() keeps it in the benchmark's rows: not returned again
+        curves.setdefault(renderer, []).append((row["seconds"], row["bubble_mean"], row["seconds_min"],
+                                                row["seconds_max"]))
+    # equal error: the errors Cycles reaches at each of its sample counts, where ours' curve
+    # reaches them too; else ours' fastest point already beats it (a bound)
+    ours_t = [c[0] for c in curves["ours"]]
+    ours_e = [c[1] for c in curves["ours"]]
+    bound_note = "ours' fastest setting already below this error: ratio is a lower bound"
+    for t_c, e_c, lo, hi in curves["cycles"]:
+        t_o = time_at_error(ours_t, ours_e, e_c)
+        bound = ""
+        if not math.isfinite(t_o) and e_c > max(ours_e):
+            t_o, bound = min(ours_t), bound_note
+        rows.append(dict(section="equal_error" + suffix, thickness_nm=d, renderer="cycles/ours", threads=threads,
+                         setting=bound or "interpolated", target_bubble_mean=e_c, seconds_cycles=t_c,
+                         seconds_cycles_min=lo, seconds_cycles_max=hi, seconds_ours=t_o,
+                         ratio=t_c / t_o if math.isfinite(t_o) else float("nan")))
+        print(f"  {threads} thread(s), equal error {e_c:.3f}: Cycles {t_c:.3f} s, ours {t_o:.4f} s, ratio "
+              f"{rows[-1]['ratio']:.3g} {bound}", flush=True)
+    # the same against each renderer's own converged image (noise only)
+    own_o = [own[("ours", s)] for s in ours_sweep]
+    for s in cyc_sweep:
+        e_c, t_c = own[("cycles", s)], float(np.median(timings[("cycles", s)]))
+        t_o = time_at_error(ours_t, own_o, e_c)
+        bound = ""
+        if not math.isfinite(t_o) and e_c > max(own_o):
+            t_o, bound = min(ours_t), bound_note
+        rows.append(dict(section="equal_own_error" + suffix, thickness_nm=d, renderer="cycles/ours", threads=threads,
+                         setting=bound or "interpolated", spp=s, target_bubble_mean=e_c, seconds_cycles=t_c,
+                         seconds_ours=t_o, ratio=t_c / t_o if math.isfinite(t_o) else float("nan")))
+        print(f"  {threads} thread(s), equal error against own converged {e_c:.3f}: Cycles {t_c:.3f} s, ours "
+              f"{t_o:.4f} s, ratio {rows[-1]['ratio']:.3g} {bound}", flush=True)
+    return rows
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="48x48, few samples, one repeat (smoke test)")
@@ -432,7 +485,6 @@ def main(argv=None):
     import tracer
 
     from study import provenance, write_csv
-    from study.fronts import time_at_error
     from study.metrics import rmse
 
     quick = args.quick
@@ -522,75 +574,50 @@ def main(argv=None):
     desc = scene_description("bubble", d, size=size)
     scene = our_scene(desc, image)
     ref = stored[d]["ref"]
-    print(f"\ntiming at {d:g} nm, {repeats} rounds:", flush=True)
-    timings = {("cycles", s): [] for s in cyc_sweep} | {("ours", s): [] for s in ours_sweep}
+    print(f"\ntiming at {d:g} nm, {repeats} rounds, {' and '.join(map(str, THREADS))} threads:", flush=True)
+    import numba
+
+    threads_here = [t for t in THREADS if t <= numba.config.NUMBA_NUM_THREADS]
+    timings = {(t, renderer, s): [] for t in threads_here
+               for renderer, sweep in (("cycles", cyc_sweep), ("ours", ours_sweep)) for s in sweep}
     errors, own = {}, {}
     for rnd in range(repeats):
-        with cpu_lock(log, f"timing round {rnd + 1}", lock):
-            renders = [(1, 500 + rnd)] + [(s, 1 + rnd) for s in cyc_sweep]
-            imgs, report = run_cycles(python, desc, env_path, renders, folder, f"sweep_{rnd}")
-            for s, img, r in zip(cyc_sweep, imgs[1:], report["renders"][1:]):
-                timings[("cycles", s)].append(r["seconds"])
-                errors.setdefault(("cycles", s), de_stats(img, ref, masks))
-                # against Cycles' own converged image: its noise alone, without its colour model
-                own.setdefault(("cycles", s), de_stats(img, stored[d]["cycles"], masks)["bubble_mean"])
-            render_ours_defaults(scene, 1, 99, size)  # warm (numba cache, packing)
-            for s in ours_sweep:
-                img, seconds = render_ours_defaults(scene, s, 1 + rnd, size)
-                timings[("ours", s)].append(seconds)
-                errors.setdefault(("ours", s), de_stats(img, ref, masks))
-                own.setdefault(("ours", s), errors[("ours", s)]["bubble_mean"])  # our converged image is the reference
-    curves = {}
-    for (renderer, s), ts in timings.items():
-        row = dict(section="timing", thickness_nm=d, renderer=renderer,
-                   setting="defaults" if renderer == "ours" else "path tracing", spp=s,
-                   seconds=float(np.median(ts)), seconds_min=float(min(ts)), seconds_max=float(max(ts)),
-                   seconds_runs=" ".join(f"{t:.4f}" for t in ts), own_bubble_mean=own[(renderer, s)],
-                   **errors[(renderer, s)])
-        add(**row)
-        curves.setdefault(renderer, []).append((row["seconds"], row["bubble_mean"], row["seconds_min"],
-                                                row["seconds_max"]))
-    # equal error: the errors Cycles reaches at each of its sample counts, where ours' curve
-    # reaches them too; else ours' fastest point already beats it (a bound)
-    equal = []
-    ours_t = [c[0] for c in curves["ours"]]
-    ours_e = [c[1] for c in curves["ours"]]
-    for t_c, e_c, lo, hi in curves["cycles"]:
-        t_o = time_at_error(ours_t, ours_e, e_c)
-        bound = ""
-        if not math.isfinite(t_o) and e_c > max(ours_e):
-            t_o, bound = min(ours_t), "ours' fastest setting already below this error: ratio is a lower bound"
-        equal.append(dict(section="equal_error", thickness_nm=d, renderer="cycles/ours", setting=bound or "interpolated",
-                          target_bubble_mean=e_c, seconds_cycles=t_c, seconds_cycles_min=lo, seconds_cycles_max=hi,
-                          seconds_ours=t_o, ratio=t_c / t_o if math.isfinite(t_o) else float("nan")))
-        print(f"  equal error {e_c:.3f}: Cycles {t_c:.3f} s, ours {t_o:.4f} s, ratio "
-              f"{equal[-1]['ratio']:.3g} {bound}", flush=True)
-    # the same against each renderer's own converged image (noise only)
-    own_o = [own[("ours", s)] for s in ours_sweep]
-    for s in cyc_sweep:
-        e_c, t_c = own[("cycles", s)], float(np.median(timings[("cycles", s)]))
-        t_o = time_at_error(ours_t, own_o, e_c)
-        bound = ""
-        if not math.isfinite(t_o) and e_c > max(own_o):
-            t_o, bound = min(ours_t), "ours' fastest setting already below this error: ratio is a lower bound"
-        equal.append(dict(section="equal_own_error", thickness_nm=d, renderer="cycles/ours",
-                          setting=bound or "interpolated", spp=s, target_bubble_mean=e_c, seconds_cycles=t_c,
-                          seconds_ours=t_o, ratio=t_c / t_o if math.isfinite(t_o) else float("nan")))
-        print(f"  equal error against own converged {e_c:.3f}: Cycles {t_c:.3f} s, ours {t_o:.4f} s, ratio "
-              f"{equal[-1]['ratio']:.3g} {bound}", flush=True)
-    rows += equal
+        for t in threads_here:
+            with cpu_lock(log, f"timing round {rnd + 1}, {t} thread{'s' if t > 1 else ''}", lock):
+                renders = [(1, 500 + rnd)] + [(s, 1 + rnd) for s in cyc_sweep]
+                imgs, report = run_cycles(python, dict(desc, threads=t), env_path, renders, folder, f"sweep_{rnd}_{t}")
+                for s, img, r in zip(cyc_sweep, imgs[1:], report["renders"][1:]):
+                    timings[(t, "cycles", s)].append(r["seconds"])
+                    errors.setdefault(("cycles", s), de_stats(img, ref, masks))
+                    # against Cycles' own converged image: its noise alone, without its colour model
+                    own.setdefault(("cycles", s), de_stats(img, stored[d]["cycles"], masks)["bubble_mean"])
+                previous = numba.get_num_threads()
+                numba.set_num_threads(t)
+                try:
+                    render_ours_defaults(scene, 1, 99, size)  # warm (numba cache, packing)
+                    for s in ours_sweep:
+                        img, seconds = render_ours_defaults(scene, s, 1 + rnd, size)
+                        timings[(t, "ours", s)].append(seconds)
+                        errors.setdefault(("ours", s), de_stats(img, ref, masks))
+                        own.setdefault(("ours", s), errors[("ours", s)]["bubble_mean"])  # ours is the reference
+                finally:
+                    numba.set_num_threads(previous)
+    for t in threads_here:
+        # two threads keep the section names the paper has always read; other counts get a suffix
+        suffix = "" if t == 2 else f"_{t}_thread{'s' if t > 1 else ''}"
+        rows += equal_error_rows(d, {(r, s): ts for (tt, r, s), ts in timings.items() if tt == t}, errors, own,
+                                 cyc_sweep, ours_sweep, suffix, t, add)
 
-    columns = ["section", "thickness_nm", "renderer", "setting", "spp", "seconds", "seconds_min", "seconds_max",
+    columns = ["section", "thickness_nm", "renderer", "threads", "setting", "spp", "seconds", "seconds_min", "seconds_max",
                "seconds_runs", "rmse", "image_rms"]
     columns += [f"{r}_{s}" for r in ("bubble", "edge", "all") for s in ("mean", "p95")] + ["own_bubble_mean"]
     columns += ["target_bubble_mean", "seconds_cycles", "seconds_cycles_min", "seconds_cycles_max", "seconds_ours",
                 "ratio"]
-    import numba
-
     comments = [
         provenance(f"benchmarks/peer_cycles.py{' --quick' if quick else ''}",
-                   f"Blender {blender} (Cycles, CPU, 2 threads), numba {numba.__version__} with "
-                   f"{numba.get_num_threads()} threads", "regenerate with: make bench-peers"),
+                   f"Blender {blender} (Cycles, CPU), numba {numba.__version__}; the references with "
+                   f"2 threads each, the timing with {' and '.join(map(str, threads_here))}",
+                   "regenerate with: make bench-peers"),
         f"scene: bubble radius {RADIUS} at the origin, uniform film n = {FILM_N}; camera at (0, 0, 4), vertical fov "
         f"{FOV_DEG:g} deg, {size}x{size}, box filter; environment {ENV_SHAPE[1]}x{ENV_SHAPE[0]} equirectangular, "
         f"elevation only; ours: analytic sphere, Whitted, threshold 0, depth {DEPTH}; Cycles: Principled BSDF (IOR 1, "
@@ -602,7 +629,9 @@ def main(argv=None):
         "decomposition: closed-form images at pixel centres (exact spectral Airy, cut after m = 3, per-channel Rec.709 "
         "CMFs with illuminant E, both with the clamp); only the bubble region is free of anti-aliasing differences",
         "timing: wall seconds of bpy.ops.render.render (scene synced by a warm-up render) and of our render_with_stats "
-        f"(compilation excluded), {repeats} interleaved rounds, median and min-max; load per phase: " + "; ".join(log),
+        f"(compilation excluded), {repeats} interleaved rounds, each with {' and '.join(map(str, threads_here))} "
+        "threads for both renderers (sections timing, equal_error, equal_own_error: 2 threads; the _1_thread "
+        "sections: 1), median and min-max; load per phase: " + "; ".join(log),
     ]
     write_csv(out, rows, comments, fieldnames=columns, float_format="{:.6g}", extrasaction="ignore")
     # small images for the figure: reference, Cycles, their dE00 (float16)

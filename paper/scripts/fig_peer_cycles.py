@@ -129,6 +129,13 @@ def main(argv=None):
             own = np.array([float(r["own_bubble_mean"]) for r in curve])
             ax.plot(t, own, "--", marker="o", markersize=2.5, color=colors[ci], markerfacecolor="white",
                     linewidth=0.8, label="Cycles vs own converged")
+    one_thread = [r for r in rows if r["section"] == "timing_1_thread"]
+    for ci, renderer in enumerate(("ours", "cycles")):  # the same sweeps on one thread: thin, no markers' labels
+        curve = sorted((r for r in one_thread if r["renderer"] == renderer), key=lambda r: int(r["spp"]))
+        if curve:
+            ax.plot([float(r["seconds"]) for r in curve], [float(r["bubble_mean"]) for r in curve], "-.",
+                    marker="o", markersize=2, color=colors[ci], linewidth=0.8,
+                    label="one thread" if ci == 0 else None)
     if timing:
         d = float(timing[0]["thickness_nm"])
         floor = next((r for r in rows if r["section"] == "comparison" and r["renderer"] == "cycles"

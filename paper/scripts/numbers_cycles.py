@@ -44,7 +44,13 @@ HEAD = ("CyclesDate", "CyclesVersion", "CyclesSize", "CyclesRefSpp", "CyclesRefB
         "CyclesBounces", "CyclesDepth", "CyclesEdgePx", "CyclesLoad", "CyclesFilmIndex", "CyclesWaterBlue",
         "CyclesWaterRed")
 
-MACROS = list(HEAD) + list(ORIENT) + list(TIMING) + [name for name, *_ in MAXIMA]
+#: the same with one thread (sections timing_1_thread, ...), where the CSV has them
+TIMING_ONE_THREAD = tuple(f"{name}OneThread" for name in (
+    "CyclesBestSeconds", "CyclesBestSecondsMin", "CyclesBestSecondsMax", "CyclesOursSeconds", "CyclesOursSecondsMin",
+    "CyclesOursSecondsMax", "CyclesTimeRatio", "CyclesRatioQualifier", "CyclesOwnTimeRatio",
+    "CyclesOwnRatioQualifier", "CyclesSecondsPerSample", "CyclesOursSecondsPerSample"))
+
+MACROS = list(HEAD) + list(ORIENT) + list(TIMING) + list(TIMING_ONE_THREAD) + [name for name, *_ in MAXIMA]
 MACROS += [f"CyclesThick{word}" for word in THICKNESS_WORDS.values()]
 MACROS += [f"{stem}{suffix}{word}" for stem, *_ in COMPARISONS for suffix, _ in STATS
            for word in THICKNESS_WORDS.values()]
@@ -74,7 +80,7 @@ def cycles(dirs):
     out["CyclesWaterBlue"] = f"{float(water_refractive_index(400.0)):.3f}"
     out["CyclesWaterRed"] = f"{float(water_refractive_index(700.0)):.3f}"
     # the load average before and after each timing round
-    loads = [float(v) for pair in re.findall(r"timing round \d+: load ([0-9.]+) -> ([0-9.]+)", text) for v in pair]
+    loads = [float(v) for pair in re.findall(r"timing round \d+(?:, \d+ threads?)?: load ([0-9.]+) -> ([0-9.]+)", text) for v in pair]
     if loads:
         out["CyclesLoad"] = f"{min(loads):.1f}--{max(loads):.1f}"
     for name, setting in ORIENT.items():
@@ -98,33 +104,46 @@ def cycles(dirs):
                     maxima[name].append(_f(row, column))
     for name, values in maxima.items():
         out[name] = up_to(max(values), 2)
-    timing = [r for r in rows if r["section"] == "timing"]
+    out.update(cycles_timing(rows, "", ""))
+    if any(r["section"] == "timing_1_thread" for r in rows):
+        out.update(cycles_timing(rows, "_1_thread", "OneThread"))
+    return out
+
+
+def cycles_timing(rows, suffix, word):
+    """The timing macros of one thread count: sections ``timing{suffix}``, ``equal_error{suffix}``
+    and ``equal_own_error{suffix}`` of peer_cycles.csv, each macro name ending in *word* (``""``:
+    two threads, ``"OneThread"``)."""
+    out = {}
+    timing = [r for r in rows if r["section"] == "timing" + suffix]
     cyc = sorted((r for r in timing if r["renderer"] == "cycles"), key=lambda r: int(r["spp"]))
     ours = sorted((r for r in timing if r["renderer"] == "ours"), key=lambda r: int(r["spp"]))
     best, first = cyc[-1], ours[0]
-    out["CyclesTimingThickness"] = f"{float(best['thickness_nm']):g}"
-    out["CyclesBestSpp"] = best["spp"]
+    if not word:
+        out["CyclesTimingThickness"] = f"{float(best['thickness_nm']):g}"
+        out["CyclesBestSpp"] = best["spp"]
+        out["CyclesBestError"] = significant(_f(best, "bubble_mean"), 2)
+        out["CyclesOursError"] = significant(_f(first, "bubble_mean"), 2)
+        out["CyclesOursBestSpp"] = ours[-1]["spp"]
+        out["CyclesOursBestError"] = significant(_f(ours[-1], "bubble_mean"), 2)
+        if best.get("own_bubble_mean"):
+            out["CyclesBestOwnError"] = significant(_f(best, "own_bubble_mean"), 2)
     for name, row in (("CyclesBest", best), ("CyclesOurs", first)):
-        out[f"{name}Seconds"] = significant(_f(row, "seconds"), 2)
-        out[f"{name}SecondsMin"] = significant(_f(row, "seconds_min"), 2)
-        out[f"{name}SecondsMax"] = significant(_f(row, "seconds_max"), 2)
-    out["CyclesBestError"] = significant(_f(best, "bubble_mean"), 2)
-    out["CyclesOursError"] = significant(_f(first, "bubble_mean"), 2)
-    out["CyclesOursBestSpp"] = ours[-1]["spp"]
-    out["CyclesOursBestError"] = significant(_f(ours[-1], "bubble_mean"), 2)
-    if best.get("own_bubble_mean"):
-        out["CyclesBestOwnError"] = significant(_f(best, "own_bubble_mean"), 2)
+        out[f"{name}Seconds{word}"] = significant(_f(row, "seconds"), 2)
+        out[f"{name}SecondsMin{word}"] = significant(_f(row, "seconds_min"), 2)
+        out[f"{name}SecondsMax{word}"] = significant(_f(row, "seconds_max"), 2)
     for section, ratio_name, word_name in (("equal_error", "CyclesTimeRatio", "CyclesRatioQualifier"),
                                            ("equal_own_error", "CyclesOwnTimeRatio", "CyclesOwnRatioQualifier")):
-        equal = [r for r in rows if r["section"] == section]
+        equal = [r for r in rows if r["section"] == section + suffix]
         if not equal:
             continue
         last = max(equal, key=lambda r: _f(r, "seconds_cycles"))  # Cycles' slowest, most converged point
         lower = "lower bound" in last["setting"]
-        out[ratio_name] = at_least(_f(last, "ratio"), 2) if lower else significant(_f(last, "ratio"), 2)
-        out[word_name] = "at least" if lower else "about"
-    out["CyclesSecondsPerSample"] = significant(_f(best, "seconds") / int(best["spp"]) * 1000.0, 2)
-    out["CyclesOursSecondsPerSample"] = significant(_f(ours[-1], "seconds") / int(ours[-1]["spp"]) * 1000.0, 2)
+        out[ratio_name + word] = at_least(_f(last, "ratio"), 2) if lower else significant(_f(last, "ratio"), 2)
+        out[word_name + word] = "at least" if lower else "about"
+    out[f"CyclesSecondsPerSample{word}"] = significant(_f(best, "seconds") / int(best["spp"]) * 1000.0, 2)
+    out[f"CyclesOursSecondsPerSample{word}"] = significant(_f(ours[-1], "seconds") / int(ours[-1]["spp"]) * 1000.0,
+                                                           2)
     return out
 
 

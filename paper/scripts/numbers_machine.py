@@ -3,8 +3,10 @@
 * ``machine``: every ``data/derived/*.csv``; the header that :func:`study.provenance` writes names
   the CPU model (``; CPU AMD EPYC (family 25, model 17);``, from ``/proc/cpuinfo``) since
   ``benchmarks/machine.py`` was added; the newest such header gives ``\\CpuModel`` and its date
-  ``\\CpuModelDate`` (files written earlier name only the architecture and the cores, so their
-  headers count for nothing here).  No header with a model: both n/a, with a warning.
+  ``\\CpuModelDate``, the oldest such date ``\\CpuModelFirstDate`` (files written earlier name only the architecture and the cores, so their
+  headers count for nothing here, but are counted: ``\\CpuUnnamedCount`` of them against
+  ``\\CpuNamedCount`` that name a model, ``\\CpuModelCount`` distinct models).  No header with a model:
+  all n/a, with a warning.
 
 A plug-in of :mod:`make_numbers` (its ``SECTIONS`` format).
 """
@@ -24,17 +26,22 @@ def _header(path):
 
 
 def machine(dirs):
-    named = []
+    named, unnamed = [], 0
     for path in sorted(dirs["derived"].glob("*.csv")):
         notes = _header(path)
         try:
             named.append((date_of(notes), path.name, cpu_model_of(notes)))
         except ValueError:
+            unnamed += 1
             continue
     if not named:
         raise ValueError("no header of data/derived/*.csv names the CPU model (run benchmarks/machine.py)")
     date, _, model = max(named)
-    return {"CpuModel": model, "CpuModelDate": date}
+    models = sorted({m for _, _, m in named})
+    return {"CpuModel": model, "CpuModelDate": date, "CpuModelFirstDate": min(named)[0],
+            "CpuNamedCount": str(len(named)),
+            "CpuUnnamedCount": str(unnamed), "CpuModelCount": str(len(models))}
 
 
-SECTIONS = {"machine": (["derived/*.csv (the CPU model in their headers)"], machine, ["CpuModel", "CpuModelDate"])}
+SECTIONS = {"machine": (["derived/*.csv (the CPU model in their headers)"], machine,
+                        ["CpuModel", "CpuModelDate", "CpuModelFirstDate", "CpuNamedCount", "CpuUnnamedCount", "CpuModelCount"])}

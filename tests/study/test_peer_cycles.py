@@ -163,3 +163,22 @@ def test_cycles_sees_the_environment_as_ours_and_the_flipped_one_fails(tmp_path)
                         for o in ("matched", "flipped"))
     assert np.sqrt(np.mean((matched - ours) ** 2)) < 0.01
     assert np.sqrt(np.mean((flipped - ours) ** 2)) > 0.05
+
+
+@pytest.mark.api
+def test_stored_peer_cycles_has_one_and_two_thread_timings():
+    """Issue 23: every peer is timed with one thread and with two.  The stored CSV carries the
+    two-thread sweeps in ``timing`` and the one-thread ones in ``timing_1_thread``, the same sample
+    counts for each renderer, and equal-error rows for both; its header names the CPU."""
+    from study.results import read_commented_csv
+
+    notes, rows = read_commented_csv(ROOT / "data" / "derived" / "peer_cycles.csv")
+    assert "CPU " in notes[0]
+    for section, threads in (("timing", "2"), ("timing_1_thread", "1")):
+        timing = [r for r in rows if r["section"] == section]
+        assert {r["threads"] for r in timing} == {threads}
+        for renderer, sweep in (("cycles", pc.CYCLES_SWEEP_SPP), ("ours", pc.OURS_SWEEP_SPP)):
+            assert sorted(int(r["spp"]) for r in timing if r["renderer"] == renderer) == sorted(sweep)
+    for section in ("equal_error", "equal_error_1_thread", "equal_own_error", "equal_own_error_1_thread"):
+        ratios = [float(r["ratio"]) for r in rows if r["section"] == section]
+        assert ratios and all(math.isfinite(x) and x > 0 for x in ratios)
