@@ -256,11 +256,22 @@ def read_commented_csv(path):
 
 
 def machine_of(notes):
-    """'x86_64, 2 cores' from a benchmark's header comment '... (x86_64, 2 cores, Python ...)'."""
+    """The machine of a benchmark's header comment: its CPU model and cores where the header names
+    the model (:func:`cpu_model_of`), else the architecture and cores of '... (x86_64, 2 cores, Python ...)'.
+
+    >>> machine_of(["written by b.py on 2026-12-02 (x86_64, 2 cores, Python 3.11.7); load 1"])
+    'x86\\\\_64, 2 cores'
+    >>> machine_of(["written by b.py on 2026-12-07 (x86_64, 2 cores, Python 3.11.7); CPU AMD EPYC (family 25, model 1); x"])
+    'AMD EPYC (family 25, model 1), 2 cores'
+    """
     for note in notes:
         m = re.search(r"\(([^,()]+), (\d+) cores?", note)
         if m:
-            return f"{m.group(1)}, {m.group(2)} cores".replace("_", r"\_")
+            try:
+                where = cpu_model_of(notes)
+            except ValueError:
+                where = m.group(1).replace("_", r"\_")
+            return f"{where}, {m.group(2)} cores"
     raise ValueError("no machine description in the header comments")
 
 
