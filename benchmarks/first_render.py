@@ -13,6 +13,10 @@ it), so that this script does not depend on where the tracer's modules live.  Th
 * ``first_render_sphere_only``: the same for a coursework-format scene of Phong spheres only
   (``data/scenes/coursework_two_sphere_three_bubbles.txt``: six clear spheres, one point light,
   black background; RGB transport), its own empty cache;
+* ``first_render_builtin_no_helper``, ``first_render_sphere_only_no_helper``: the same two with
+  ``TRACER_COMPILE_HELPER=0``, so that the second process that compiles part of a first render
+  (:mod:`tracer.rendering.compile_helper`, on in the cases above) is measured against its absence
+  in the same repeats;
 * ``warm_fresh_process_builtin``: the built-in scene at 960x960 again, in a fresh process whose
   cache is the one the ``first_render_builtin`` run of the same repeat filled: start-up, import,
   loading the kernels from the cache, the render and the PNG;
@@ -48,11 +52,13 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "first_render.csv"
 SPHERE_SCENE = Path("data") / "scenes" / "coursework_two_sphere_three_bubbles.txt"
 #: case -> (scene file relative to the checkout or None for the built-in scene, empty cache?,
-#: target seconds, target peak RSS MB or None)
+#: target seconds, target peak RSS MB or None, the compile helper on?)
 CASES = {
-    "first_render_builtin": (None, True, 20.0, 600.0),
-    "first_render_sphere_only": (SPHERE_SCENE, True, 8.0, None),
-    "warm_fresh_process_builtin": (None, False, 1.5, None),
+    "first_render_builtin": (None, True, 20.0, 600.0, True),
+    "first_render_sphere_only": (SPHERE_SCENE, True, 8.0, None, True),
+    "first_render_builtin_no_helper": (None, True, 20.0, 600.0, False),
+    "first_render_sphere_only_no_helper": (SPHERE_SCENE, True, 8.0, None, False),
+    "warm_fresh_process_builtin": (None, False, 1.5, None, True),
 }
 DEMO_CASE = "make_demo_fresh_clone"
 DEMO_TARGET_SECONDS = 90.0
@@ -66,11 +72,12 @@ def folder_mb(path):
     return sum(f.stat().st_size for f in Path(path).rglob("*") if f.is_file()) / 2**20
 
 
-def run_child(scene, out_png, size, cache_dir):
-    """Run ``python -m tracer image`` in a child process with numba's cache in *cache_dir*:
-    ``(wall seconds, CPU seconds, peak RSS MB)``."""
+def run_child(scene, out_png, size, cache_dir, helper=True):
+    """Run ``python -m tracer image`` in a child process with numba's cache in *cache_dir*, with
+    or without the compile helper (``TRACER_COMPILE_HELPER``): ``(wall seconds, CPU seconds, peak RSS MB)``."""
     env = dict(os.environ)
     env["NUMBA_CACHE_DIR"] = str(cache_dir)
+    env["TRACER_COMPILE_HELPER"] = "1" if helper else "0"
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [env.get("PYTHONPATH")])])
     cmd = [sys.executable, "-m", "tracer", "image", *([str(scene)] if scene else []), str(out_png), "--quiet",
            "--width", str(size), "--height", str(size)]
@@ -117,25 +124,25 @@ def main(argv=None):
     load_before = os.getloadavg()[0]
     cases = dict(CASES)
     if not args.quick:
-        cases[DEMO_CASE] = (None, True, DEMO_TARGET_SECONDS, None)
+        cases[DEMO_CASE] = (None, True, DEMO_TARGET_SECONDS, None, True)
     runs = {case: [] for case in cases}
     work = Path(tempfile.mkdtemp(prefix="first_render_"))
     try:
         for rep in range(repeats):
             caches = {}
-            for case, (scene, empty, _, _) in CASES.items():
+            for case, (scene, empty, _, _, helper) in CASES.items():
                 if case == DEMO_CASE:
                     continue
                 key = scene or "builtin"
                 if empty:
                     cache = work / f"cache_{rep}_{case}"
                     cache.mkdir()
-                    caches[key] = cache
+                    caches.setdefault(key, cache)
                 else:
                     cache = caches[key]  # filled by this repeat's first render of the same scene
                 out_png = work / f"{case}.png"
                 out_png.unlink(missing_ok=True)
-                seconds, cpu, rss = run_child(ROOT / scene if scene else None, out_png, size, cache)
+                seconds, cpu, rss = run_child(ROOT / scene if scene else None, out_png, size, cache, helper)
                 run = dict(seconds=seconds, cpu=cpu, rss=rss, cache_mb=folder_mb(cache) if empty else None)
                 runs[case].append(run)
                 print(f"repeat {rep}: {case}: {seconds:.2f} s (CPU {cpu:.1f} s), peak RSS {rss:.0f} MB"
@@ -150,12 +157,13 @@ def main(argv=None):
     load_after = os.getloadavg()[0]
 
     rows = []
-    for case, (scene, empty, target_s, target_mb) in cases.items():
+    for case, (scene, empty, target_s, target_mb, helper) in cases.items():
         r = runs[case]
         med, lo, hi = spread([x["seconds"] for x in r])
         rss_med, rss_lo, rss_hi = spread([x["rss"] for x in r])
         meets = med <= target_s and (target_mb is None or rss_med <= target_mb)
         rows.append(dict(case=case, scene=str(scene) if scene else "built-in", cache="empty" if empty else "warm",
+                         compile_helper=helper,
                          width=size, height=size, repeats=len(r), seconds_median=med, seconds_min=lo,
                          seconds_max=hi, cpu_seconds_median=statistics.median(x["cpu"] for x in r),
                          peak_rss_mb_median=rss_med, peak_rss_mb_min=rss_lo, peak_rss_mb_max=rss_hi,
@@ -173,11 +181,12 @@ def main(argv=None):
         f"{repeats} repeat(s), cases interleaved, median (min-max); each run a fresh `python -m tracer image` "
         f"process at {size}x{size} (render defaults otherwise); first_render_*: a new empty NUMBA_CACHE_DIR per run; "
         f"warm_fresh_process_builtin: the cache that repeat's first_render_builtin filled; peak RSS: the child's "
-        f"ru_maxrss (os.wait4)"
+        f"ru_maxrss (os.wait4: the larger of it and the compile helper it waits for); *_no_helper: "
+        f"TRACER_COMPILE_HELPER=0 (the others 1: tracer.rendering.compile_helper where 2 CPUs are usable)"
         + (f"; {DEMO_CASE}: `make demo` in a fresh git clone of HEAD (venv and install from nothing, "
            f"PIP_NO_CACHE_DIR=1, numba's cache empty), the clone itself not timed" if DEMO_CASE in cases else ""),
         "regenerate with: python benchmarks/first_render.py")
-    fields = ["case", "scene", "cache", "width", "height", "repeats", "seconds_median", "seconds_min", "seconds_max",
+    fields = ["case", "scene", "cache", "compile_helper", "width", "height", "repeats", "seconds_median", "seconds_min", "seconds_max",
               "cpu_seconds_median", "peak_rss_mb_median", "peak_rss_mb_min", "peak_rss_mb_max", "cache_mb_median",
               "target_seconds", "target_rss_mb", "meets_target", "seconds_runs"]
     write_csv(args.out, rows, comment, fieldnames=fields, float_format="{:.4g}")

@@ -25,6 +25,9 @@ prefer_workqueue_threads()  # as the tracer command does (import bubbleoptics ch
 # One integrator with every feature serves every test scene (compiled once, not once per feature set;
 # tests/tracer/test_features.py checks that the specialised kernels give the same images).
 os.environ.setdefault("TRACER_FEATURES", "all")
+# No second compiling process beside a first render (tracer.rendering.compile_helper): the two
+# test workers already use both cores; tests/tracer/test_compile_helper.py turns it on where it tests it.
+os.environ.setdefault("TRACER_COMPILE_HELPER", "0")
 
 settings.register_profile(
     "ci",

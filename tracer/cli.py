@@ -362,7 +362,7 @@ def _warmup(args):
             continue
         print(f"tracer warmup: {what}: compiling ...", flush=True)
         t0 = time.perf_counter()
-        warm_up(packed, spectral_image=spectral_image, features=features)
+        warm_up(packed, spectral_image=spectral_image, features=features, helper=True)
         print(f"tracer warmup: {what}: compiled in {time.perf_counter() - t0:.0f} s", flush=True)
     # the rest of a render (packing's spectra, the PNG encoding): a tiny render of each scene
     for scene in scenes:

@@ -113,7 +113,8 @@ def render_with_stats(
     t0 = time.perf_counter()
     if client is None:
         # a first render says that it compiles (unless progress=False)
-        warm_up(packed, notice=None if progress is False else (lambda line: print(line, file=sys.stderr, flush=True)))
+        warm_up(packed, notice=None if progress is False else (lambda line: print(line, file=sys.stderr, flush=True)),
+                helper=True)
         t0 = time.perf_counter()
         image, counts, spectrum = render_here(packed, s, 0, height, spectral_image, show, cancel)
     else:

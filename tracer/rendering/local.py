@@ -193,14 +193,25 @@ def feature_names(packed: PackedScene) -> list:
     return [name for name, flag in zip(FEATURES, scene_features(packed)) if flag is not None]
 
 
-def warm_up(packed: PackedScene, notice=None, spectral_image=False, features=None):
+def warm_up(packed: PackedScene, notice=None, spectral_image=False, features=None, helper=False):
     """Compile (or load from numba's cache) the integrator for this scene on a 1x1 image (with a
     per-band image too if *spectral_image*).  When it is not compiled yet and *notice* is given
-    (a callable taking a line of text), say so first.  *features*: other flags than the scene's
-    (:func:`tracer.kernels.integrator.scene_features`; ``tracer warmup --all``)."""
-    if notice is not None and not is_compiled(packed, spectral_image, features):
-        notice(COMPILE_NOTICE.format(features=", ".join(feature_names(packed)) or "none"))
-    rows_call(*_one_pixel(packed, spectral_image), features=features)
+    (a callable taking a line of text), say so first; with *helper*, a second process compiles
+    part of it meanwhile where a second core is free (:mod:`tracer.rendering.compile_helper`).
+    *features*: other flags than the scene's (:func:`tracer.kernels.integrator.scene_features`;
+    ``tracer warmup --all``)."""
+    from . import compile_helper
+
+    side = None
+    if (notice is not None or helper) and not is_compiled(packed, spectral_image, features):
+        if notice is not None:
+            notice(COMPILE_NOTICE.format(features=", ".join(feature_names(packed)) or "none"))
+        if helper:
+            side = compile_helper.start(packed, features)
+    try:
+        rows_call(*_one_pixel(packed, spectral_image), features=features)
+    finally:
+        compile_helper.finish(side)
 
 
 def render_in_parts(packed: PackedScene, s, row0=0, row1=None, spectral_image=False, stop=None,
