@@ -6,13 +6,15 @@ a third of that compile is not ``render_rows`` itself but the kernels numba comp
 when it types a call to them (each a fixed cost of numba's pipeline, LLVM and a cache file;
 ``docs/performance.md``).  Where a second core is free, :func:`start` runs ``python -m
 tracer.rendering.compile_helper`` beside the first render; it compiles, for the scene's types and
-in this order, the kernels the render needs last: the PNG's sRGB encoder, the spherical lights'
-:func:`~tracer.kernels.integrator.sphere_light` (when the scene has them), the shadow path
-:func:`~tracer.kernels.integrator.shadow_along` (with the kernels it calls: the surface models'
-optics, the intersection tests) and the environment's :func:`~tracer.kernels.environment.environment_rgb`.
-Meanwhile this process types ``render_rows`` from its top.  numba looks in its cache before it
-compiles a kernel for a signature, so each side loads what the other has already written, and
-they meet in the middle with at most a kernel compiled twice.
+in this order, the spherical lights' :func:`~tracer.kernels.integrator.sphere_light` (when the
+scene has them), the shadow path :func:`~tracer.kernels.integrator.shadow_along` (with the
+kernels it calls: the surface models' optics, the intersection tests), the PNG's sRGB encoder and
+the environment's :func:`~tracer.kernels.environment.environment_rgb`, while this process types
+``render_rows`` from its top.  numba looks in its cache before it compiles a kernel for a
+signature, so each side loads what the other has already written.  The order is the one that
+gained most (docs/performance.md): the shadow path is what the render reaches last of its
+callees, the encoder is needed only after the render, and the environment, which the render
+meets early, is usually compiled by the render first (the helper then loads it).
 
 Nothing changes in the pixels or in the warm kernels: the helper compiles the same functions for
 the same argument types (:func:`helper_signatures`; ``tests/tracer/test_compile_helper.py`` checks
@@ -52,8 +54,7 @@ def enabled() -> bool:
 def helper_signatures(packed, features=None, png_bits=8):
     """``[(module, function name, argument types), ...]``: what the helper compiles for the packed
     scene *packed* with the integrator's feature flags *features* (default: the scene's,
-    :func:`tracer.kernels.integrator.scene_features`), in its order: first what the render needs
-    last.  The argument types are those the integrator passes (``numba.typeof`` of values of the
+    :func:`tracer.kernels.integrator.scene_features`), in its order (the module's docstring).  The argument types are those the integrator passes (``numba.typeof`` of values of the
     same kinds), and the encoder's those of a *png_bits* image (:mod:`tracer.rendering.output`)."""
     import numba
     import numpy as np
@@ -70,8 +71,7 @@ def helper_signatures(packed, features=None, png_bits=8):
     vec = numba.typeof((0.0, 0.0, 0.0))
     f64, i64 = numba.float64, numba.int64
     code = np.uint8 if png_bits == 8 else np.uint16
-    out = [("bubbleoptics.kernels", "srgb_encode_quantized_array",
-            (numba.typeof(np.zeros(1)), f64, numba.typeof(np.zeros(1, dtype=code))))]
+    out = []
     if area is not None:  # (the flag compiles sphere_light whether or not this scene's lights have a radius)
         hit = numba.typeof(((0.0, 0.0, 0.0),) * 4 + (0.0, True))
         w = numba.typeof(ws.w)
@@ -82,6 +82,8 @@ def helper_signatures(packed, features=None, png_bits=8):
                         + flag_types))
     out.append(("tracer.kernels.integrator", "shadow_along",
                 (scene, ws_t, vec, vec, f64, numba.typeof(ws.trans)) + flag_types))
+    out.append(("bubbleoptics.kernels", "srgb_encode_quantized_array",
+                (numba.typeof(np.zeros(1)), f64, numba.typeof(np.zeros(1, dtype=code)))))
     out.append(("tracer.kernels.environment", "environment_rgb",
                 (numba.typeof(packed.environment[0]), numba.typeof(packed.env_image), vec)))
     return out
