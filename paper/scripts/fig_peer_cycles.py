@@ -134,8 +134,9 @@ def main(argv=None):
         curve = sorted((r for r in one_thread if r["renderer"] == renderer), key=lambda r: int(r["spp"]))
         if curve:
             ax.plot([float(r["seconds"]) for r in curve], [float(r["bubble_mean"]) for r in curve], "-.",
-                    marker="o", markersize=2, color=colors[ci], linewidth=0.8,
-                    label="one thread" if ci == 0 else None)
+                    marker="o", markersize=2, color=colors[ci], linewidth=0.8)
+    if one_thread:  # one legend entry for both renderers' one-thread curves, in neither's colour
+        ax.plot([], [], "-.", marker="o", markersize=2, color="0.3", linewidth=0.8, label="one thread (both)")
     if timing:
         d = float(timing[0]["thickness_nm"])
         floor = next((r for r in rows if r["section"] == "comparison" and r["renderer"] == "cycles"
