@@ -61,11 +61,28 @@ def test_the_kernel_for_a_scenes_features_gives_the_full_kernels_image(scene, mo
 @pytest.mark.api
 def test_a_first_render_says_it_compiles_unless_quiet(monkeypatch, capsys):
     monkeypatch.setattr(local, "is_compiled", lambda *args, **kwargs: False)
+    monkeypatch.setattr(local, "_WARMED", set())  # as in a new process
     tracer.render(tracer.default_scene(), width=4, height=4, progress=None)
     err = capsys.readouterr().err
     assert err.count("compiling the renderer for this scene's features") == 1 and "tracer warmup" in err
     tracer.render(tracer.default_scene(), width=4, height=4, progress=False)
     assert "compiling" not in capsys.readouterr().err
+
+
+@pytest.mark.api
+def test_a_kernel_warmed_up_here_is_not_looked_up_again(monkeypatch):
+    """After a warm-up in this process the next one neither asks numba's cache (a few ms per render)
+    nor says it compiles; without that record (a new process) it asks again."""
+    packed = pack_scene(tracer.default_scene())
+    local.warm_up(packed)
+    asked = []
+    monkeypatch.setattr(local, "is_compiled", lambda *args, **kwargs: asked.append(args) or False)
+    lines = []
+    local.warm_up(packed, notice=lines.append, helper=True)
+    assert asked == [] and lines == []
+    monkeypatch.setattr(local, "_WARMED", set())
+    local.warm_up(packed, notice=lines.append)
+    assert len(asked) == 1 and len(lines) == 1
 
 
 @pytest.mark.api

@@ -202,8 +202,11 @@ def warm_up(packed: PackedScene, notice=None, spectral_image=False, features=Non
     ``tracer warmup --all``)."""
     from . import compile_helper
 
+    # the kernel's signature is fixed by its flags and by whether it keeps a per-band image: one
+    # warmed up in this process needs no look into numba's cache (that costs a render some ms)
+    key = (tuple(scene_features(packed) if features is None else features), bool(spectral_image))
     side = None
-    if (notice is not None or helper) and not is_compiled(packed, spectral_image, features):
+    if key not in _WARMED and (notice is not None or helper) and not is_compiled(packed, spectral_image, features):
         if notice is not None:
             notice(COMPILE_NOTICE.format(features=", ".join(feature_names(packed)) or "none"))
         if helper:
@@ -212,6 +215,11 @@ def warm_up(packed: PackedScene, notice=None, spectral_image=False, features=Non
         rows_call(*_one_pixel(packed, spectral_image), features=features)
     finally:
         compile_helper.finish(side)
+    _WARMED.add(key)
+
+
+#: The (flags, per-band image) of the kernels :func:`warm_up` has compiled or loaded in this process.
+_WARMED = set()
 
 
 def render_in_parts(packed: PackedScene, s, row0=0, row1=None, spectral_image=False, stop=None,
