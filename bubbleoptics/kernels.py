@@ -68,7 +68,7 @@ import math
 
 import numpy as np
 from numba import njit, prange
-from .jit import JIT, JIT_INLINE, JIT_PARALLEL
+from .jit import JIT, JIT_FMA, JIT_INLINE, JIT_PARALLEL
 
 __all__ = [
     "COS_MIN",
@@ -90,6 +90,7 @@ __all__ = [
     "fresnel_dielectric_nb",
     "film_setup_nb",
     "sin2_cos2_nb",
+    "sin_cos_nb",
     "BETA_POLY_MAX",
     "film_evaluate_nb",
     "film_rt_nb",
@@ -227,6 +228,9 @@ BETA_POLY_MAX = 2.0**20 * 1.5707963267948966
 # relative, i.e. well under half an ulp.
 _S3, _S5, _S7, _S9 = -1 / 6, 1 / 120, -1 / 5040, 1 / 362880
 _S11, _S13, _S15, _S17 = -1 / 39916800, 1 / 6227020800, -1 / 1307674368000, 1 / 355687428096000
+# and (-1)^n/(2n)! for cos r (the first omitted term, r^18/18!, is below 2e-18 on |r| <= pi/4)
+_C2, _C4, _C6, _C8 = -1 / 2, 1 / 24, -1 / 720, 1 / 40320
+_C10, _C12, _C14, _C16 = -1 / 3628800, 1 / 479001600, -1 / 87178291200, 1 / 20922789888000
 
 
 @njit(**JIT_INLINE)
@@ -241,15 +245,62 @@ def sin2_cos2_nb(beta):
     (only squares are needed, so signs drop out).  Checked against libm and
     mpmath in ``tests/bubbleoptics/test_kernels.py``.
     """
-    k = math.floor(beta * _TWO_OVER_PI + 0.5)
-    r = ((beta - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
-    r2 = r * r
-    sr = r + r * r2 * (_S3 + r2 * (_S5 + r2 * (_S7 + r2 * (_S9 + r2 * (_S11 + r2 * (_S13 + r2 * (_S15 + r2 * _S17)))))))
+    k, r = _reduce_pio2(beta)
+    sr = _sin_poly(r)
     s2 = sr * sr
     c2 = 1.0 - s2  # |r| <= pi/4: sin^2 r <= 1/2, so cos^2 r >= 1/2 and the difference keeps its digits
-    odd = k - 2.0 * math.floor(0.5 * k)  # 0.0 or 1.0
+    odd = k - 2.0 * np.floor(0.5 * k)  # 0.0 or 1.0
     even = 1.0 - odd
     return odd * c2 + even * s2, odd * s2 + even * c2
+
+
+@njit(**JIT_INLINE)
+def _reduce_pio2(x):
+    """(k, r) with x = k pi/2 + r, |r| <= pi/4 (up to rounding), k a whole number as a float.
+
+    ``np.floor`` keeps k a float: numba's ``math.floor`` returns an int64, and AVX2 has no packed
+    conversion between doubles and 64-bit integers, so an integer k made LLVM convert each lane
+    of a vectorized loop on its own (``free_film_evaluate_bands_nb`` took 127 ns for 16 bands
+    with it and 85 ns without, docs/performance.md)."""
+    k = np.floor(x * _TWO_OVER_PI + 0.5)
+    return k, ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
+
+
+@njit(**JIT_INLINE)
+def _sin_poly(r):
+    """Taylor polynomial of sin r to r^17 (|r| <= pi/4: first omitted term below 1e-19 relative)."""
+    r2 = r * r
+    return r + r * r2 * (_S3 + r2 * (_S5 + r2 * (_S7 + r2 * (_S9 + r2 * (_S11 + r2 * (_S13 + r2 * (_S15 + r2 * _S17)))))))
+
+
+@njit(**JIT_INLINE)
+def _cos_poly(r):
+    """Taylor polynomial of cos r to r^16 (|r| <= pi/4: first omitted term below 2e-18)."""
+    r2 = r * r
+    return 1.0 + r2 * (_C2 + r2 * (_C4 + r2 * (_C6 + r2 * (_C8 + r2 * (_C10 + r2 * (_C12 + r2 * (_C14 + r2 * _C16)))))))
+
+
+@njit(**JIT_INLINE)
+def sin_cos_nb(x):
+    """(sin x, cos x), branch-free for |x| <= :data:`BETA_POLY_MAX`, libm beyond (and for inf, NaN).
+
+    Why by hand: libm's ``sin`` is a call that LLVM can neither inline nor vectorize, and the
+    tracer's swirling films evaluate five of them per hit (:func:`tracer.kernels.thickness.film_thickness`;
+    about 23 ns each on the project's machine).  The reduction and polynomials of
+    :func:`sin2_cos2_nb`; the quadrant q = k mod 4 picks and signs them as exact 0/1 blends:
+    sin x = (s, c, -s, -c) and cos x = (c, -s, -c, s) for q = 0..3, s = sin r, c = cos r.
+    Checked against mpmath and libm in ``tests/bubbleoptics/test_kernels.py``.
+    """
+    if not abs(x) <= BETA_POLY_MAX:
+        return math.sin(x), math.cos(x)
+    k, r = _reduce_pio2(x)
+    s = _sin_poly(r)
+    c = _cos_poly(r)
+    q = k - 4.0 * np.floor(0.25 * k)  # 0, 1, 2 or 3 (k may be negative)
+    half = np.floor(0.5 * q)  # 0 for q = 0, 1; 1 for q = 2, 3
+    odd = q - 2.0 * half  # 0 or 1
+    flip = odd + half - 2.0 * odd * half  # odd xor half: cos x is negative for q = 1, 2
+    return (1.0 - 2.0 * half) * (odd * c + (1.0 - odd) * s), (1.0 - 2.0 * flip) * (odd * s + (1.0 - odd) * c)
 
 
 @njit(**JIT)
@@ -1191,11 +1242,13 @@ def free_film_setup_bands_nb(wavelength, n1, cos0, n0, kq, Fs, Fp):
     return misses == 0
 
 
-@njit(**JIT)
+@njit(**JIT_FMA)
 def free_film_evaluate_bands_nb(kq, Fs, Fp, d, pol, R, T):
     """:func:`free_film_evaluate_nb` for every band at once (coefficients from
     :func:`free_film_setup_bands_nb`), into *R*, *T* (C,).  Vectorizes when every phase is within
-    :data:`BETA_POLY_MAX` (films thinner than about 8 cm), else falls back band by band."""
+    :data:`BETA_POLY_MAX` (films thinner than about 8 cm), else falls back band by band.
+    Compiled with fused multiply-add (:data:`bubbleoptics.jit.JIT_FMA`): the tracer calls it at
+    every film hit."""
     n = kq.shape[0]
     kq_max = 0.0
     for c in range(n):

@@ -8,7 +8,8 @@ bubble is given by its outward unit normal *n*.
 import math
 
 from numba import njit
-from bubbleoptics.jit import JIT
+from bubbleoptics.jit import JIT_FMA
+from bubbleoptics.kernels import sin_cos_nb
 
 from .records import N_SWIRL_WAVES, PROFILE_DRAINING, PROFILE_UNIFORM
 
@@ -20,7 +21,7 @@ _COS_W = (1.0, math.cos(1.0), math.cos(2.0), math.cos(3.0))
 _SIN_W = (0.0, math.sin(1.0), math.sin(2.0), math.sin(3.0))
 
 
-@njit(**JIT)
+@njit(**JIT_FMA)
 def film_thickness(f, maps, n):
     """Film thickness in nm of film record *f* at the point whose outward unit normal is *n*.
 
@@ -32,6 +33,10 @@ def film_thickness(f, maps, n):
     :math:`s = \\sum_w \\sin(k\\,n\\cdot u_w + \\phi_w + 1.5 \\sin(k \\cos\\theta / 2 + w))`.
     Map: bilinear in (θ, φ) over an (Nθ, Nφ) table stored from ``f.map_offset`` in *maps*,
     φ periodic, measured from ``ref`` towards ``up × ref``.  Never negative.
+
+    The swirl's sines are :func:`bubbleoptics.kernels.sin_cos_nb` (inlined polynomials, not
+    libm calls) and the kernel is compiled with fused multiply-add: 105 ns per swirling hit
+    against 178 ns with libm (docs/performance.md).
     """
     up = f.up
     cos_t = n[0] * up[0] + n[1] * up[1] + n[2] * up[2]
@@ -68,13 +73,11 @@ def film_thickness(f, maps, n):
         s = 0.0
         k = f.swirl_scale
         # the warp sin(a + w), w = 0, 1, 2, ..., by the angle-addition formula from one sin/cos pair
-        a = 0.5 * k * cos_t
-        sa = math.sin(a)
-        ca = math.cos(a)
+        sa, ca = sin_cos_nb(0.5 * k * cos_t)
+        waves = f.waves
         for w in range(N_SWIRL_WAVES):
-            wave = f.waves[w]
-            x = n[0] * wave[0] + n[1] * wave[1] + n[2] * wave[2]
+            x = n[0] * waves[w, 0] + n[1] * waves[w, 1] + n[2] * waves[w, 2]
             warp = sa * _COS_W[w] + ca * _SIN_W[w]
-            s += math.sin(k * x + wave[3] + 1.5 * warp)
+            s += sin_cos_nb(k * x + waves[w, 3] + 1.5 * warp)[0]
         d *= 1.0 + f.swirl * 0.25 * s
     return max(d, 0.0)
