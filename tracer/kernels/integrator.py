@@ -225,9 +225,12 @@ def add_environment(scene, L, w, factor, d):
     r, g, b = environment_rgb(scene.environment[0], scene.env_image, d)
     if r == 0.0 and g == 0.0 and b == 0.0:
         return
-    basis = scene.rgb_basis
+    basis = scene.rgb_basis_t  # (3, C): contiguous per primary, so that this loop vectorizes
+    b0 = basis[0]
+    b1 = basis[1]
+    b2 = basis[2]
     for c in range(L.shape[0]):
-        L[c] += w[c] * factor[c] * (basis[c, 0] * r + basis[c, 1] * g + basis[c, 2] * b)
+        L[c] += w[c] * factor[c] * (b0[c] * r + b1[c] * g + b2[c] * b)
 
 
 @njit(**JIT_INLINE)

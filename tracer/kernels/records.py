@@ -183,6 +183,7 @@ class PackedScene(NamedTuple):
     band_mode: int  # 1: films averaged over each band (bubbleoptics.kernels.film_band_average_nb)
     to_rgb: np.ndarray  # (3, C): channels -> linear sRGB
     rgb_basis: np.ndarray  # (C, 3): linear sRGB -> channels
+    rgb_basis_t: np.ndarray  # (3, C): rgb_basis transposed, contiguous (so the loops over channels vectorize)
     rgb_round_trip: np.ndarray  # (3, 3) = to_rgb @ rgb_basis (an environment seen directly)
     spectral: bool  # transport in spectral bands (True) or linear-sRGB channels (False)
 

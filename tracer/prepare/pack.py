@@ -462,6 +462,7 @@ def pack_scene(scene: Scene, spectral_samples=16, force_spectral=None, spectral_
         band_mode=int(spectral and spectral_method == "band"),
         to_rgb=c(to_rgb),
         rgb_basis=c(basis),
+        rgb_basis_t=c(basis.T),
         rgb_round_trip=c(to_rgb @ basis),
         spectral=spectral,
     )
