@@ -167,6 +167,8 @@ def main(argv=None) -> None:
     for name, value, low in (("--width", args.width, 8), ("--renders", args.renders, 1), ("--threads", args.threads, 1)):
         if value < low:
             ap.error(f"{name} must be at least {low} (got {value})")
+    if args.scene != "built-in" and not Path(args.scene).is_file():
+        ap.error(f"--scene: no such scene file {args.scene!r} (a path, or built-in)")
     if args.child:
         return callgrind_child(args) if args.callgrind else child(args)
     common = [sys.executable, __file__, "--child", "--scene", args.scene, "--width", str(args.width),
