@@ -47,8 +47,8 @@ def film_thickness(f, maps, n):
     φ periodic, measured from ``ref`` towards ``up × ref``.  Never negative.
 
     The swirl's sines are :func:`bubbleoptics.kernels.sin_cos_nb` (inlined polynomials, not
-    libm calls) and the kernel is compiled with fused multiply-add: 105 ns per swirling hit
-    against 178 ns with libm (docs/performance.md).
+    libm calls) and the kernel is compiled with fused multiply-add: 64-78 ns per swirling hit
+    against 141-178 ns with libm (one thread, timed in an ``@njit`` loop; docs/performance.md).
     """
     up = f.up
     cos_t = n[0] * up[0] + n[1] * up[1] + n[2] * up[2]
