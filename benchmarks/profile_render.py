@@ -42,9 +42,9 @@ import sys
 import tempfile
 from pathlib import Path
 
+from study.results import provenance, write_csv
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-from study.results import provenance, write_csv  # noqa: E402
 
 OUT = ROOT / "data" / "derived" / "profile_render.csv"
 _MANGLED = re.compile(r"_ZN((?:\d+[A-Za-z_][A-Za-z0-9_]*)+)")
