@@ -35,8 +35,8 @@ def film_thickness(f, maps, n):
     φ periodic, measured from ``ref`` towards ``up × ref``.  Never negative.
 
     The swirl's sines are :func:`bubbleoptics.kernels.sin_cos_nb` (inlined polynomials, not
-    libm calls) and the kernel is compiled with fused multiply-add: 64-78 ns per swirling hit
-    against 141-178 ns with libm (one thread, timed in an ``@njit`` loop; docs/performance.md).
+    libm calls) and the kernel is compiled with fused multiply-add: the swirl costs about 0.57 of
+    its time with libm's ``sin`` (one thread, timed in an ``@njit`` loop; docs/performance.md).
     """
     up = f.up
     cos_t = n[0] * up[0] + n[1] * up[1] + n[2] * up[2]
@@ -74,8 +74,8 @@ def film_thickness(f, maps, n):
         # the warp sin(a + w), w = 0, 1, 2, ..., by the angle-addition formula from one sin/cos pair
         sa, ca = sin_cos_nb(0.5 * k * cos_t)
         # a loop, not the waves written out: writing them out inlined four copies of the sine's
-        # polynomial and tripled this kernel's compile time (1.1 -> 3.6 s) for no warm speed
-        # measurable above noise (docs/performance.md)
+        # polynomial and doubled this kernel's compile time (1.7-2.0 -> 3.5-3.8 s) for at most
+        # 10 % of its warm time (docs/performance.md)
         s = 0.0
         waves = f.waves
         for w in range(N_SWIRL_WAVES):
