@@ -23,7 +23,7 @@ import numpy as np
 
 from . import _args
 from .film import film_reflectance, film_transmittance
-from .kernels import srgb_decode_array, srgb_encode_array
+from .kernels import srgb_decode_array, srgb_decode_nb, srgb_encode_array, srgb_encode_nb
 
 __all__ = [
     "DEFAULT_OBSERVER",
@@ -249,12 +249,26 @@ def srgb_dominant_wavelengths():
     return colour_tables()["srgb_dominant_wavelengths_nm"].copy()
 
 
-def _elementwise(kernel, a):
-    """Apply a 1-D array kernel of :mod:`bubbleoptics.kernels` to any array (a new float array)."""
+#: Arrays of at most this many values, each finite and within +-_PY_PATH_BOUND, go through the
+#: scalar kernel's Python function (``py_func``: the same formula run by CPython on Python floats,
+#: with the C library's pow as in the compiled kernel, so the same bits), not the compiled array
+#: kernel: a scene file's few colours then compile nothing before the render's own compile
+#: (0.13 s of a sphere-only first render; docs/performance.md).  NaN, infinities and larger values
+#: take the compiled kernel (CPython's ``**`` raises OverflowError where C's pow gives inf).
+_PY_PATH_MAX_SIZE = 64
+_PY_PATH_BOUND = 1e6
+
+
+def _elementwise(kernel, scalar, a):
+    """Apply a 1-D array kernel of :mod:`bubbleoptics.kernels`, or for a few values its
+    scalar kernel *scalar* uncompiled (see ``_PY_PATH_MAX_SIZE``), to any array (a new float array)."""
     a = np.asarray(a, dtype=float)
     flat = np.ascontiguousarray(a).ravel()
-    out = np.empty_like(flat)
-    kernel(flat, out)
+    if flat.size <= _PY_PATH_MAX_SIZE and bool(np.all(np.abs(flat) <= _PY_PATH_BOUND)):
+        out = np.array([scalar.py_func(v) for v in flat.tolist()], dtype=float)
+    else:
+        out = np.empty_like(flat)
+        kernel(flat, out)
     return out.reshape(a.shape)[()]
 
 
@@ -273,7 +287,7 @@ def linear_srgb_to_srgb(x):
     >>> round(float(linear_srgb_to_srgb(0.18)), 7)
     0.4613561
     """
-    return _elementwise(srgb_encode_array, x)
+    return _elementwise(srgb_encode_array, srgb_encode_nb, x)
 
 
 def srgb_to_linear_srgb(v):
@@ -290,7 +304,7 @@ def srgb_to_linear_srgb(v):
     >>> round(float(srgb_to_linear_srgb(128 / 255)), 6)
     0.215861
     """
-    return _elementwise(srgb_decode_array, v)
+    return _elementwise(srgb_decode_array, srgb_decode_nb, v)
 
 
 def spectrum_to_XYZ(values, wavelengths_nm, illuminant="D65", observer=DEFAULT_OBSERVER):

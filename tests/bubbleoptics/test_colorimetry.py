@@ -247,6 +247,30 @@ def test_srgb_transfer_functions_equal_colour_science_and_the_literal_formula():
     np.testing.assert_array_equal(srgb_to_linear_srgb(x), [decode(v) for v in x.tolist()])
 
 
+@pytest.mark.api
+def test_srgb_transfer_functions_give_the_same_bits_for_a_few_values_as_for_many():
+    """A few values (a scene's colours) go through the scalar kernels uncompiled, many through the
+    compiled array kernels (bubbleoptics.colorimetry._elementwise): the same values give the same
+    bits either way, across both break points, outside [0, 1], at the bound of the uncompiled path
+    and beyond it (where CPython's ``**`` would overflow), and with NaN and infinities."""
+    from bubbleoptics import colorimetry as cm
+
+    rng = np.random.default_rng(11)
+    values = np.concatenate([rng.uniform(-0.5, 1.5, 40), [0.0, 1.0, 0.0031308, 0.0031308 * 12.92, -0.0,
+                                                         cm._PY_PATH_BOUND, -cm._PY_PATH_BOUND, 5e-324]])
+    assert values.size <= cm._PY_PATH_MAX_SIZE
+    filler = np.full(cm._PY_PATH_MAX_SIZE + 1, 0.25)  # makes the call take the compiled kernel
+    for f in (cm.linear_srgb_to_srgb, cm.srgb_to_linear_srgb):
+        few = f(values)
+        many = f(np.concatenate([values, filler]))[: values.size]
+        np.testing.assert_array_equal(few, many)
+        assert few.dtype == np.float64 and few.shape == values.shape
+        # beyond the bound, and NaN or inf: the compiled kernel, no OverflowError
+        wild = f(np.array([1e300, -1e300, np.inf, -np.inf, np.nan, 0.5]))
+        assert np.isnan(wild[4]) and np.isfinite(wild[5]) and wild[2] == np.inf
+    assert np.isinf(cm.srgb_to_linear_srgb(1e300))
+
+
 @pytest.mark.analytic
 def test_srgb_transfer_functions_shapes_limits_and_nan():
     """Scalars give scalars, arrays keep their shape, 0 and 1 are fixed points, the two invert
