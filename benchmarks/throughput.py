@@ -15,6 +15,8 @@ repeats), beside the seconds and rays per second.  Cases, all 960x960 at one sam
 * ``empty``: no objects, a constant environment (RGB transport);
 * ``coursework_{1,2,3}_bubbles`` at depth 1 and 10: the scenes of the coursework's table 4.1
   (``data/scenes/coursework_{one,two,three}_bubble*.txt``), defaults otherwise;
+* ``coursework_two_sphere_3_bubbles`` at depth 1 and 10: the three bubbles modelled literally,
+  each two concentric clear spheres (``data/scenes/coursework_two_sphere_three_bubbles.txt``);
 * ``builtin``: ``tracer.default_scene()`` at the defaults (what ``make demo`` renders).
 
 Every case runs with 1 and with 2 threads (``numba.set_num_threads``), and so do the floor
@@ -47,6 +49,9 @@ from study.results import image_benchmark_arguments, provenance, write_csv
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "data" / "derived" / "throughput.csv"
 COURSEWORK_SCENES = {1: "coursework_one_bubble.txt", 2: "coursework_two_bubbles.txt", 3: "coursework_three_bubbles.txt"}
+#: the coursework's bubbles modelled literally, each two concentric clear spheres (every hit a
+#: Fresnel-reflected and a refracted ray): the scene the issue's three-bubble targets name
+TWO_SPHERE_SCENE = "coursework_two_sphere_three_bubbles.txt"
 
 
 @njit(parallel=True, cache=True)
@@ -70,6 +75,9 @@ def cases(tracer):
         scene = tracer.load_scene(ROOT / "data" / "scenes" / name)
         for depth in (1, 10):
             out.append((f"coursework_{nb}_bubble{'s' if nb > 1 else ''}", scene, depth))
+    two_sphere = tracer.load_scene(ROOT / "data" / "scenes" / TWO_SPHERE_SCENE)
+    for depth in (1, 10):
+        out.append(("coursework_two_sphere_3_bubbles", two_sphere, depth))
     out.append(("builtin", tracer.default_scene(), tracer.DEFAULTS["depth"]))
     return out
 
@@ -247,6 +255,9 @@ def main(argv=None):
         d10 = get("coursework_3_bubbles", 10, 2)["seconds_median"]
         d1 = get("coursework_3_bubbles", 1, 2)["seconds_median"]
         print(f"three bubbles, 2 threads: depth 10 / depth 1 = {d10 / d1:.2f}")
+        d10 = get("coursework_two_sphere_3_bubbles", 10, 2)["seconds_median"]
+        d1 = get("coursework_two_sphere_3_bubbles", 1, 2)["seconds_median"]
+        print(f"three two-sphere bubbles, 2 threads: depth 10 / depth 1 = {d10 / d1:.2f}")
 
     fields = ["case", "depth", "threads", "width", "height", "repeats", "seconds_median", "seconds_min",
               "seconds_max", "floor_seconds_median", "ratio_to_floor_median", "ratio_to_floor_min",
