@@ -252,12 +252,10 @@ def main(argv=None):
             line += f"  alone {r['alone_seconds_median']:.4f} s: slowed {r['slowdown_together']:.2f}x by the other"
         print(line)
     if len(thread_counts) == 2:
-        d10 = get("coursework_3_bubbles", 10, 2)["seconds_median"]
-        d1 = get("coursework_3_bubbles", 1, 2)["seconds_median"]
-        print(f"three bubbles, 2 threads: depth 10 / depth 1 = {d10 / d1:.2f}")
-        d10 = get("coursework_two_sphere_3_bubbles", 10, 2)["seconds_median"]
-        d1 = get("coursework_two_sphere_3_bubbles", 1, 2)["seconds_median"]
-        print(f"three two-sphere bubbles, 2 threads: depth 10 / depth 1 = {d10 / d1:.2f}")
+        for label, case in (("three bubbles", "coursework_3_bubbles"),
+                            ("three two-sphere bubbles", "coursework_two_sphere_3_bubbles")):
+            depth_ratio = get(case, 10, 2)["seconds_median"] / get(case, 1, 2)["seconds_median"]
+            print(f"{label}, 2 threads: depth 10 / depth 1 = {depth_ratio:.2f}")
 
     fields = ["case", "depth", "threads", "width", "height", "repeats", "seconds_median", "seconds_min",
               "seconds_max", "floor_seconds_median", "ratio_to_floor_median", "ratio_to_floor_min",
